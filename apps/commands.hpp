@@ -1,0 +1,9 @@
+#pragma once
+// Sub-command registration for the `ppohdem` tool. Each register_* adds a CLI11 subcommand
+// whose callback runs the command; errors propagate as exceptions to main().
+#include <CLI/CLI.hpp>
+
+namespace ppohdem::app {
+void register_mesh_info(CLI::App& app);
+void register_voxelize(CLI::App& app);
+}  // namespace ppohdem::app

@@ -1,0 +1,28 @@
+// ppohdem: command-line entry point. Sub-commands live in cmd_*.cpp, one per command.
+#include <cstdio>
+#include <exception>
+
+#include "commands.hpp"
+#include "ppohdem/build_info.hpp"
+#include "ppohdem/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ppohdem: verified DEM and signed-distance-field tools (ppOpen-APPL/DEM re-creation)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("ppohdem ") + ppohdem::build_info::kVersion +
+                                        " (git " + ppohdem::build_info::kGitHash + ")");
+  ppohdem::app::register_mesh_info(app);
+  ppohdem::app::register_voxelize(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const ppohdem::InputError& e) {
+    std::fprintf(stderr, "ppohdem: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ppohdem: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Install ppohdem's build and test dependencies from Debian packages (run as root, or with
+# sudo available). Idempotent: a machine that already has them only pays for apt-get update.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  libeigen3-dev                      # Eigen 3.4: vectors, quaternions
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev   # CGAL 5.5: the validation oracle only
+  libopenmpi-dev openmpi-bin         # Open MPI 4.1
+  libgtest-dev libgmock-dev googletest librapidcheck-dev   # tests
+  libbenchmark-dev                   # Google Benchmark
+  libtomlplusplus-dev libcli11-dev   # scene files, command line
+  python3-matplotlib python3-numpy   # plots in docs/ (system python: /usr/bin/python3)
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages already installed"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,32 @@
+#pragma once
+/// \file atomic_file.hpp
+/// Write a file so that it is never seen half-written: write to "<name>.tmp.<pid>.<n>" in the
+/// same directory, flush, then rename over the target (atomic on POSIX). If the writer is
+/// destroyed without commit() (an exception while writing), the temp file is removed and
+/// any existing target is left untouched.
+#include <filesystem>
+#include <fstream>
+
+namespace ppohdem {
+
+class AtomicFileWriter {
+ public:
+  /// Opens the temp file; throws InputError if the directory does not exist or is not
+  /// writable (naming the target path).
+  explicit AtomicFileWriter(std::filesystem::path target, bool binary = false);
+  ~AtomicFileWriter();
+  AtomicFileWriter(const AtomicFileWriter&) = delete;
+  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+
+  std::ostream& stream() { return out_; }
+  /// Flush, close, check for write errors, rename onto the target. Throws on failure.
+  void commit();
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path temp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+}  // namespace ppohdem
