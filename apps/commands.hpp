@@ -6,4 +6,5 @@
 namespace ppohdem::app {
 void register_mesh_info(CLI::App& app);
 void register_voxelize(CLI::App& app);
+void register_simulate(CLI::App& app);
 }  // namespace ppohdem::app

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
                                         " (git " + ppohdem::build_info::kGitHash + ")");
   ppohdem::app::register_mesh_info(app);
   ppohdem::app::register_voxelize(app);
+  ppohdem::app::register_simulate(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -4,7 +4,10 @@ namespace ppohdem {
 namespace {
 std::string compose(const std::string& file, std::size_t line, const std::string& message) {
   std::string where = file;
-  if (line > 0) where += (where.empty() ? "line " : ":") + std::to_string(line);
+  if (line > 0) {
+    where.append(where.empty() ? "line " : ":");
+    where.append(std::to_string(line));
+  }
   return where.empty() ? message : where + ": " + message;
 }
 }  // namespace

@@ -4,6 +4,7 @@
 /// Each value line may start with a label word ending in ':' (e.g. `Lx_Ly_Lz:`); if a label
 /// is present it must be the expected one. Errors name file:line and what was expected.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -54,5 +55,11 @@ UpdateParamsInput parse_update_params_input(std::string_view text, const std::st
 
 /// Read a whole file into memory; InputError naming the file if it cannot be opened.
 std::string read_file_bytes(const std::filesystem::path& path);
+
+/// One Fortran real as written by people or by Fortran programs: `300.`, `.5`, `+7`, `1.0D-3`,
+/// `1.0d-3`, `2.5E+01`, and the exponent-letter-free form Fortran writes for 3-digit exponents
+/// (`0.10000000-199`). The whole token must be the number. Returns nullopt if it is not a
+/// number; `inf`/`nan` spellings are returned as non-finite values for the caller to reject.
+std::optional<double> parse_fortran_real(std::string_view token);
 
 }  // namespace ppohdem

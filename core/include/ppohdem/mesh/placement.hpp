@@ -11,7 +11,11 @@
 ///        v'_a = (v_a - min_a) / R * size_L + pos_a - 0.5 size_a,
 ///    R = the largest bounding-box extent, size_L = the size entry of that axis. Uniform
 ///    scale; the box's *minimum* corner goes to pos - size/2 (centred only if the scaled extent
-///    equals size on that axis).
+///    equals size on that axis). On ties L is the first of x, y, z (the original's tie rule
+///    is not documented; it only matters when the size entries differ).
+/// place_mesh evaluates each mode in the form given in placement.cpp (kPpohdem10 in the
+/// original's exact order, so it reproduces the original's object_mesh.stl bit for bit);
+/// placement_map gives the same map as scale .* v + offset, equal up to rounding.
 #include "ppohdem/mesh/triangle_mesh.hpp"
 
 namespace ppohdem {

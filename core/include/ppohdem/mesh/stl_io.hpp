@@ -23,6 +23,11 @@ enum class StlEncoding { kAscii, kBinary };
 struct StlReadReport {
   StlEncoding encoding = StlEncoding::kAscii;
   std::size_t degenerate_triangles = 0;  ///< triangles of exactly zero area (kept)
+  /// ASCII facets whose `vertex` keywords are not exactly one before each coordinate triple
+  /// (List 1.1 layout: keyword after its numbers, or missing); accepted, counted here.
+  std::size_t irregular_vertex_keywords = 0;
+  /// facet normals that were NaN/Inf in the file; stored as zero (normals are informational).
+  std::size_t non_finite_normals = 0;
 };
 
 /// Read an STL file. Throws InputError naming the file and the line (ASCII) or the triangle

@@ -1,0 +1,282 @@
+// The original program's per-rank distance files: see distance_dat.hpp for the layout.
+#include "ppohdem/io/distance_dat.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+
+#include "ppohdem/error.hpp"
+#include "ppohdem/io/atomic_file.hpp"
+#include "ppohdem/io/legacy_inputs.hpp"
+
+namespace ppohdem {
+namespace {
+
+constexpr int kMaxI8 = 99999999;  // largest value an I8 field can show
+
+std::string right_justify(const std::string& s, std::size_t width) {
+  return s.size() >= width ? s : std::string(width - s.size(), ' ') + s;
+}
+
+std::string in_quotes(std::string_view s) {
+  std::string q(1, '\'');
+  q.append(s.substr(0, 80));
+  q += '\'';
+  return q;
+}
+
+/// Splits a small line into whitespace-separated words (at most `max_words` + 1 kept).
+std::vector<std::string_view> words_of(std::string_view line, std::size_t max_words) {
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size() && words.size() <= max_words) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+std::optional<int> to_int(std::string_view w) {
+  int v = 0;
+  const auto r = std::from_chars(w.data(), w.data() + w.size(), v);
+  if (r.ec != std::errc() || r.ptr != w.data() + w.size()) return std::nullopt;
+  return v;
+}
+
+/// Line-by-line reader over a whole file's bytes, counting 1-based line numbers.
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view bytes) : bytes_(bytes) {}
+  std::optional<std::string_view> next() {
+    if (pos_ >= bytes_.size()) return std::nullopt;
+    std::size_t eol = bytes_.find('\n', pos_);
+    if (eol == std::string_view::npos) eol = bytes_.size();
+    std::string_view line = bytes_.substr(pos_, eol - pos_);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos_ = eol + 1;
+    ++line_;
+    return line;
+  }
+  std::size_t line() const { return line_; }
+
+ private:
+  std::string_view bytes_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 0;
+};
+
+std::string show3(int a, int b, int c) {
+  return std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c);
+}
+
+}  // namespace
+
+std::string format_fortran_e20_8(double v) {
+  constexpr std::size_t kWidth = 20;
+  if (std::isnan(v)) return right_justify("NaN", kWidth);
+  if (std::isinf(v)) return right_justify(v < 0 ? "-Infinity" : "Infinity", kWidth);
+
+  // printf's %.7e gives d.ddddddde±XX with the 8 significant digits correctly rounded from the
+  // exact binary value (glibc: round-half-even on exact ties, the same digits gfortran prints;
+  // checked against gfortran 12 output in fixtures/legacy-cases/e20_8_gfortran.txt).
+  // Fortran's E form is 0.dddddddd × 10^(XX+1): shift the point one place left.
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.7e", v);
+  const std::string_view s(buf);
+  const bool negative = s.front() == '-';
+  const std::size_t d0 = negative ? 1 : 0;
+  std::string digits;
+  digits += s[d0];
+  digits += s.substr(d0 + 2, 7);  // skip the '.'
+  const std::size_t e_pos = s.find('e');
+  int exponent = std::atoi(buf + e_pos + 1) + 1;
+  if (v == 0.0) exponent = 0;  // Fortran prints zero as 0.00000000E+00
+
+  std::string out = negative ? "-0." : "0.";
+  out += digits;
+  const int magnitude = std::abs(exponent);
+  char exp_buf[16];
+  if (magnitude <= 99) {
+    std::snprintf(exp_buf, sizeof exp_buf, "E%c%02d", exponent < 0 ? '-' : '+', magnitude);
+  } else {  // Ew.d with a 3-digit exponent drops the letter: 0.10000000+101
+    std::snprintf(exp_buf, sizeof exp_buf, "%c%03d", exponent < 0 ? '-' : '+', magnitude);
+  }
+  out += exp_buf;
+  return right_justify(out, kWidth);
+}
+
+DistanceDatSlab distance_dat_slab(int grid_x, int nprocs, int rank) {
+  const int base = grid_x / nprocs;
+  const int extra = grid_x % nprocs;  // the first `extra` ranks hold one more plane
+  DistanceDatSlab slab;
+  slab.plane_count = base + (rank < extra ? 1 : 0);
+  slab.first_plane = rank * base + (rank < extra ? rank : extra);
+  return slab;
+}
+
+std::filesystem::path distance_dat_path(const std::filesystem::path& dir, int rank) {
+  char name[32];
+  std::snprintf(name, sizeof name, "distance_%04d.dat", rank);
+  return dir / name;
+}
+
+ScalarField DistanceDat::on_grid(const GridSpec& grid) const {
+  if (grid.nodes != nodes) {
+    throw InputError("distance field: expected a grid of " + show3(nodes[0], nodes[1], nodes[2]) +
+                     " nodes (from the distance files), found " + show3(grid.nodes[0], grid.nodes[1], grid.nodes[2]));
+  }
+  ScalarField field(grid);
+  field.values = values;
+  return field;
+}
+
+void write_distance_dat(const std::filesystem::path& dir, std::span<const double> values, const Index3& nodes,
+                        int nprocs) {
+  const std::string where = distance_dat_path(dir, 0).string();
+  for (int n : nodes) {
+    if (n < 1 || n > kMaxI8) {
+      throw InputError(where, 0, "cannot write: expected node counts in 1.." + std::to_string(kMaxI8) +
+                                     ", found " + show3(nodes[0], nodes[1], nodes[2]));
+    }
+  }
+  if (nprocs < 1 || nprocs > nodes[0]) {
+    throw InputError(where, 0, "cannot write: expected 1 <= nprocs <= gridX = " + std::to_string(nodes[0]) +
+                                   ", found nprocs " + std::to_string(nprocs));
+  }
+  const std::size_t count = static_cast<std::size_t>(nodes[0]) * static_cast<std::size_t>(nodes[1]) *
+                            static_cast<std::size_t>(nodes[2]);
+  if (values.size() != count) {
+    throw InputError(where, 0, "cannot write: expected " + std::to_string(count) + " values, found " +
+                                   std::to_string(values.size()));
+  }
+
+  // All files are written to temporaries first; none is renamed into place before all succeeded.
+  std::vector<std::unique_ptr<AtomicFileWriter>> writers;
+  char line[64];
+  for (int rank = 0; rank < nprocs; ++rank) {
+    writers.push_back(std::make_unique<AtomicFileWriter>(distance_dat_path(dir, rank)));
+    std::ostream& out = writers.back()->stream();
+    std::string text;
+    if (rank == 0) {
+      std::snprintf(line, sizeof line, "%8d%8d%8d%8d\n", nodes[0], nodes[1], nodes[2], nprocs);
+      text += line;
+    }
+    const DistanceDatSlab slab = distance_dat_slab(nodes[0], nprocs, rank);
+    for (int k = 0; k < nodes[2]; ++k) {
+      for (int j = 0; j < nodes[1]; ++j) {
+        for (int i = slab.first_plane; i < slab.first_plane + slab.plane_count; ++i) {
+          const std::size_t index = static_cast<std::size_t>(i) +
+                                    static_cast<std::size_t>(nodes[0]) *
+                                        (static_cast<std::size_t>(j) + static_cast<std::size_t>(nodes[1]) *
+                                                                           static_cast<std::size_t>(k));
+          std::snprintf(line, sizeof line, "%8d%8d%8d", i + 1, j + 1, k + 1);
+          text += line;
+          text += format_fortran_e20_8(values[index]);
+          text += '\n';
+        }
+      }
+      out << text;  // flush per k-plane to bound memory
+      text.clear();
+    }
+  }
+  for (auto& w : writers) w->commit();
+}
+
+DistanceDat read_distance_dat(const std::filesystem::path& dir_or_rank0_file) {
+  std::error_code ec;
+  const bool is_dir = std::filesystem::is_directory(dir_or_rank0_file, ec);
+  const std::filesystem::path rank0 = is_dir ? distance_dat_path(dir_or_rank0_file, 0) : dir_or_rank0_file;
+  const std::filesystem::path dir = is_dir ? dir_or_rank0_file
+                                           : (rank0.has_parent_path() ? rank0.parent_path() : ".");
+
+  DistanceDat dat;
+  for (int rank = 0; rank == 0 || rank < dat.nprocs; ++rank) {
+    const std::filesystem::path path = rank == 0 ? rank0 : distance_dat_path(dir, rank);
+    const std::string file = path.string();
+    if (!std::filesystem::exists(path, ec)) {
+      throw InputError(file, 0,
+                       rank == 0 ? "expected the rank-0 distance file, found no such file"
+                                 : "expected rank " + std::to_string(rank) + "'s file (the header of " +
+                                       rank0.string() + " says nprocs = " + std::to_string(dat.nprocs) +
+                                       "), found no such file");
+    }
+    const std::string bytes = read_file_bytes(path);
+    LineCursor cur(bytes);
+
+    if (rank == 0) {
+      const auto header = cur.next();
+      const auto words = header ? words_of(*header, 4) : std::vector<std::string_view>{};
+      std::optional<int> h[4];
+      for (std::size_t a = 0; a < 4 && a < words.size(); ++a) h[a] = to_int(words[a]);
+      if (words.size() != 4 || !h[0] || !h[1] || !h[2] || !h[3]) {
+        throw InputError(file, 1, "expected header 'gridX gridY gridZ nprocs' (4 integers), found " +
+                                      (header ? in_quotes(*header) : std::string("an empty file")));
+      }
+      dat.nodes = {*h[0], *h[1], *h[2]};
+      dat.nprocs = *h[3];
+      if (dat.nodes[0] < 1 || dat.nodes[1] < 1 || dat.nodes[2] < 1 || dat.nprocs < 1 ||
+          dat.nprocs > dat.nodes[0]) {
+        throw InputError(file, 1, "expected grid counts >= 1 and 1 <= nprocs <= gridX, found " +
+                                      in_quotes(*header));
+      }
+      dat.values.assign(static_cast<std::size_t>(dat.nodes[0]) * static_cast<std::size_t>(dat.nodes[1]) *
+                            static_cast<std::size_t>(dat.nodes[2]),
+                        0.0);
+    }
+
+    const DistanceDatSlab slab = distance_dat_slab(dat.nodes[0], dat.nprocs, rank);
+    const std::size_t expected_records = static_cast<std::size_t>(slab.plane_count) *
+                                         static_cast<std::size_t>(dat.nodes[1]) *
+                                         static_cast<std::size_t>(dat.nodes[2]);
+    const std::string slab_text = "i = " + std::to_string(slab.first_plane + 1) + ".." +
+                                  std::to_string(slab.first_plane + slab.plane_count);
+    std::size_t records = 0;
+    for (int k = 0; k < dat.nodes[2]; ++k) {
+      for (int j = 0; j < dat.nodes[1]; ++j) {
+        for (int i = slab.first_plane; i < slab.first_plane + slab.plane_count; ++i) {
+          const auto line = cur.next();
+          if (!line) {
+            throw InputError(file, cur.line() + 1,
+                             "expected " + std::to_string(expected_records) + " records (" + slab_text +
+                                 ", all j, k), found only " + std::to_string(records));
+          }
+          const auto w = words_of(*line, 4);
+          const auto ii = w.size() == 4 ? to_int(w[0]) : std::nullopt;
+          const auto jj = w.size() == 4 ? to_int(w[1]) : std::nullopt;
+          const auto kk = w.size() == 4 ? to_int(w[2]) : std::nullopt;
+          const auto d = w.size() == 4 ? parse_fortran_real(w[3]) : std::nullopt;
+          if (!ii || !jj || !kk || !d) {
+            throw InputError(file, cur.line(), "expected a record 'i j k d' (3 integers and a real), found " +
+                                                   in_quotes(*line));
+          }
+          if (*ii != i + 1 || *jj != j + 1 || *kk != k + 1) {
+            throw InputError(file, cur.line(),
+                             "record out of order: expected i j k = " + show3(i + 1, j + 1, k + 1) + ", found " +
+                                 show3(*ii, *jj, *kk));
+          }
+          dat.values[static_cast<std::size_t>(i) +
+                     static_cast<std::size_t>(dat.nodes[0]) *
+                         (static_cast<std::size_t>(j) +
+                          static_cast<std::size_t>(dat.nodes[1]) * static_cast<std::size_t>(k))] = *d;
+          ++records;
+        }
+      }
+    }
+    while (const auto line = cur.next()) {
+      if (!words_of(*line, 1).empty()) {
+        throw InputError(file, cur.line(),
+                         "expected " + std::to_string(expected_records) + " records (" + slab_text +
+                             ") and then end of file, found an extra line " + in_quotes(*line));
+      }
+    }
+  }
+  return dat;
+}
+
+}  // namespace ppohdem
