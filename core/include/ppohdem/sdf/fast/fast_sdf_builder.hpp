@@ -1,0 +1,86 @@
+#pragma once
+/// \file fast_sdf_builder.hpp
+/// The optimized SDF builder ("fast"): exact everywhere, OpenMP over x-lines of nodes, MPI over
+/// z-slabs. Same contract and convention as reference::ExactSdfBuilder:
+///   phi(x) = s(x) min_t |x - closest_point(x, t)|   [m],  s = -1 inside, +1 outside.
+///
+/// How (see docs/performance.md, SDF section):
+///  - distance: a flat BVH over the triangles (nearest_triangle.hpp); each node's query starts
+///    from the nearest triangle of the previous node on its x-line, whose distance is an upper
+///    bound that is usually already the answer, so the search only has to prove it;
+///  - sign: crossings of the z-columns (column_sign.hpp): exact parity for closed meshes, the
+///    cone-closed winding number for open ones;
+///  - determinism: every node's value is a pure function of the node and the mesh (the BVH's
+///    pruning is conservative, see nearest_triangle.hpp), lines are independent, nothing is
+///    reduced across threads or ranks: the field is bitwise the same for any thread count,
+///    any slab split and any number of MPI ranks.
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "ppohdem/comm/comm.hpp"
+#include "ppohdem/sdf/signed_distance.hpp"
+
+namespace ppohdem {
+
+enum class FieldPrecision { float64, float32 };
+
+struct FastSdfOptions {
+  int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default (OMP_NUM_THREADS or all cores)
+};
+
+/// A z-slab of nodes: k in [k_begin, k_end), all i and j.
+struct SlabRange {
+  int k_begin = 0;
+  int k_end = 0;
+  std::size_t node_count(const GridSpec& grid) const {
+    return static_cast<std::size_t>(k_end - k_begin) * static_cast<std::size_t>(grid.nodes[0]) *
+           static_cast<std::size_t>(grid.nodes[1]);
+  }
+};
+
+/// Rank r of `ranks` gets planes [r nz / ranks, (r + 1) nz / ranks) (integer division): contiguous,
+/// in rank order, sizes differing by at most one. A rank may get an empty slab if ranks > nz.
+SlabRange slab_of_rank(int nz, int rank, int ranks);
+
+class FastSdfBuilder final : public SdfBuilder {
+ public:
+  explicit FastSdfBuilder(FastSdfOptions options = {}) : options_(options) {}
+  std::string name() const override { return "fast"; }
+  const FastSdfOptions& options() const { return options_; }
+
+  ScalarField build(const TriangleMesh& mesh, const GridSpec& grid, SdfReport* report = nullptr) const override;
+
+  /// The nodes of `slab` (x fastest, then y, then z from slab.k_begin) into `out`, whose size
+  /// must be slab.node_count(grid). Float output is the double result rounded to nearest.
+  void build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab, std::span<double> out,
+                  SdfReport* report = nullptr) const;
+  void build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab, std::span<float> out,
+                  SdfReport* report = nullptr) const;
+
+ private:
+  template <typename T>
+  void build_slab_impl(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab, std::span<T> out,
+                       SdfReport* report) const;
+  FastSdfOptions options_;
+};
+
+std::unique_ptr<SdfBuilder> make_fast_sdf_builder(FastSdfOptions options = {});
+
+/// The field computed by all ranks of `comm`, each its slab_of_rank(); rank 0 gets the whole
+/// field, other ranks an empty `values`. With one rank no copy is made.
+/// `report` (may be null) is filled on rank 0; inside_fraction covers the whole grid.
+ScalarField build_sdf_distributed(const FastSdfBuilder& builder, const Comm& comm, const TriangleMesh& mesh,
+                                  const GridSpec& grid, SdfReport* report = nullptr);
+
+/// The same in float storage (half the memory): values on rank 0, empty elsewhere.
+std::vector<float> build_sdf_distributed_float(const FastSdfBuilder& builder, const Comm& comm,
+                                               const TriangleMesh& mesh, const GridSpec& grid,
+                                               SdfReport* report = nullptr);
+
+/// Peak resident memory of this process so far [bytes] (getrusage ru_maxrss; 0 if unknown).
+std::size_t peak_resident_bytes();
+
+}  // namespace ppohdem

@@ -1,0 +1,159 @@
+#pragma once
+// The force passes of the reference engine, one class template per interaction kind and
+// instantiated per (law, friction) at construction: a frictionless scene runs the kernel
+// without any tangential history code, a scene without walls has no boundary pass at all.
+// The kernels mirror the formulas of ppohdem/dem/contact_force.hpp.
+#include <cstdio>
+#include <map>
+#include <set>
+#include <utility>
+
+#include "ppohdem/dem/boundary.hpp"
+#include "ppohdem/dem/contact_force.hpp"
+#include "ppohdem/dem/material.hpp"
+#include "ppohdem/reference/dem/cell_list.hpp"
+#include "ppohdem/reference/dem/reference_engine.hpp"
+
+namespace ppohdem::reference::dem {
+
+using ppohdem::dem::ContactForce;
+using ppohdem::dem::ContactKinematics;
+using ppohdem::dem::harmonic_pair;
+using ppohdem::dem::Particle;
+using ppohdem::dem::TangentialSpring;
+
+/// Frictionless contacts keep no history: the kernel calls normal_contact_force only.
+/// With friction, the spring of each contact lives in `history` between steps.
+template <class Law, bool kFriction>
+class PairForces final : public ForcePass {
+ public:
+  explicit PairForces(Law law) : law_(std::move(law)) {}
+
+  void add_forces(ForceContext& c) override {
+    Particles& p = c.particles;
+    const auto pairs = touching_pairs(p);
+    active_ = pairs.size();
+    std::map<std::pair<std::int64_t, std::int64_t>, TangentialSpring> next_history;
+    for (const auto& [i, j] : pairs) {
+      Particle& a = p[i];
+      Particle& b = p[j];
+      const Vec3 d = a.position - b.position;  // from j to i
+      const double distance = d.norm();
+      ContactKinematics k;
+      k.normal = d / distance;
+      k.overlap = a.radius + b.radius - distance;
+      // Contact point in the middle of the overlap; branch vectors from each centre [m].
+      const Vec3 r_a = -(a.radius - 0.5 * k.overlap) * k.normal;
+      const Vec3 r_b = (b.radius - 0.5 * k.overlap) * k.normal;
+      k.relative_velocity = (c.velocity[i] + c.angular_velocity[i].cross(r_a)) -
+                            (c.velocity[j] + c.angular_velocity[j].cross(r_b));
+      k.relative_displacement = c.dt * ((a.velocity + a.angular_velocity.cross(r_a)) -
+                                        (b.velocity + b.angular_velocity.cross(r_b)));
+      k.pair.m_eff = harmonic_pair(c.mass[i], c.mass[j]);  // m* = m_i m_j / (m_i + m_j)
+      k.pair.r_eff = harmonic_pair(a.radius, b.radius);    // R* = R_i R_j / (R_i + R_j)
+      ContactForce f;
+      if constexpr (kFriction) {
+        const auto key = std::pair(a.id, b.id);
+        TangentialSpring spring;
+        if (auto it = history_.find(key); it != history_.end()) spring = it->second;
+        f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
+        next_history.emplace(key, spring);
+      } else {
+        f = ppohdem::dem::normal_contact_force(law_, k, c.dt);
+      }
+      // Newton's third law: equal and opposite forces at the contact point.
+      a.force += f.on_i;
+      b.force -= f.on_i;
+      a.torque += r_a.cross(f.on_i);
+      b.torque += r_b.cross(-f.on_i);
+      c.elastic += f.elastic_energy;
+      c.dissipated += f.dissipated;
+    }
+    if constexpr (kFriction) {
+      // Contacts that ended lose the energy left in their tangential spring.
+      for (const auto& [key, spring] : history_) {
+        if (!next_history.count(key)) c.dissipated += spring.stored_energy();
+      }
+      history_ = std::move(next_history);
+    }
+  }
+  std::size_t active_contacts() const override { return active_; }
+
+ private:
+  Law law_;
+  std::size_t active_ = 0;
+  std::map<std::pair<std::int64_t, std::int64_t>, TangentialSpring> history_;  // seed: contact_list
+};
+
+/// Particle-boundary contacts: the boundary is body j with infinite mass and radius, so
+/// m* = m_i, R* = R_i, and the boundary material moves with surface_velocity.
+template <class Law, bool kFriction>
+class BoundaryForces final : public ForcePass {
+ public:
+  BoundaryForces(Law law, ppohdem::dem::BoundaryList boundaries)
+      : law_(std::move(law)), boundaries_(std::move(boundaries)) {}
+
+  void add_forces(ForceContext& c) override {
+    Particles& p = c.particles;
+    active_ = 0;
+    std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> next_history;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      Particle& a = p[i];
+      for (std::size_t w = 0; w < boundaries_.size(); ++w) {
+        const auto& boundary = *boundaries_[w];
+        if (boundary.has_escaped(a.position, c.time)) {
+          if (escaped_.insert(a.id).second) {
+            std::fprintf(stderr, "warning: particle id %lld left the domain through %s at t = %g s\n",
+                         static_cast<long long>(a.id), boundary.describe().c_str(), c.time);
+          }
+          continue;
+        }
+        const auto contact = boundary.contact(a.position, a.radius, c.time);
+        if (!contact) continue;
+        ++active_;
+        ContactKinematics k;
+        k.normal = contact->normal;
+        k.overlap = contact->overlap;
+        const Vec3 r_a = contact->point - a.position;  // branch vector to the contact point [m]
+        k.relative_velocity =
+            c.velocity[i] + c.angular_velocity[i].cross(r_a) - contact->surface_velocity;
+        k.relative_displacement =
+            c.dt * (a.velocity + a.angular_velocity.cross(r_a) - contact->surface_velocity);
+        k.pair.m_eff = c.mass[i];
+        k.pair.r_eff = a.radius;
+        ContactForce f;
+        if constexpr (kFriction) {
+          const auto key = std::pair(a.id, w);
+          TangentialSpring spring;
+          if (auto it = history_.find(key); it != history_.end()) spring = it->second;
+          f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
+          next_history.emplace(key, spring);
+        } else {
+          f = ppohdem::dem::normal_contact_force(law_, k, c.dt);
+        }
+        a.force += f.on_i;
+        a.torque += r_a.cross(f.on_i);
+        c.elastic += f.elastic_energy;
+        c.dissipated += f.dissipated;
+        c.boundary_work += f.on_i.dot(contact->surface_velocity) * c.dt;  // W = F . v_wall dt
+      }
+    }
+    if constexpr (kFriction) {
+      for (const auto& [key, spring] : history_) {
+        if (!next_history.count(key)) c.dissipated += spring.stored_energy();
+      }
+      history_ = std::move(next_history);
+    }
+  }
+  std::size_t active_contacts() const override { return active_; }
+  std::size_t escaped() const override { return escaped_.size(); }
+
+ private:
+  Law law_;
+  ppohdem::dem::BoundaryList boundaries_;
+  std::size_t active_ = 0;
+  std::set<std::int64_t> escaped_;
+  std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> history_;  // seed: contact_list_wall
+};
+
+}  // namespace ppohdem::reference::dem
