@@ -1,0 +1,63 @@
+#pragma once
+/// \file boundary.hpp
+/// Rigid boundaries that particles touch: planar walls now, rigid objects given by distance
+/// fields later. A boundary is a body of infinite mass whose motion is prescribed as a
+/// function of time, so it is immutable and evaluated at a time t [s] (no per-step state).
+/// Engines keep one contact history per (particle id, boundary index) and use the same
+/// contact laws as for particle pairs, with j = the boundary: R* = R_i, m* = m_i, and the
+/// boundary's velocity at the contact point in v_rel (contact_force.hpp).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppohdem/geometry/vector.hpp"
+
+namespace ppohdem::dem {
+
+/// A sphere touching a boundary.
+struct BoundaryContact {
+  Vec3 normal = Vec3::UnitZ();          ///< unit, from the boundary towards the sphere centre
+  double overlap = 0.0;                 ///< delta = R - distance(centre, surface) > 0 [m]
+  Vec3 point = Vec3::Zero();            ///< contact point on the boundary surface [m]
+  Vec3 surface_velocity = Vec3::Zero();  ///< velocity of the boundary material there [m/s]
+};
+
+class Boundary {
+ public:
+  virtual ~Boundary() = default;
+  /// The contact of a sphere (centre [m], radius [m]) with this boundary at time t [s], or
+  /// nothing if they do not overlap or the centre has crossed to the solid side.
+  virtual std::optional<BoundaryContact> contact(const Vec3& centre, double radius,
+                                                 double time) const = 0;
+  /// True if the centre has crossed to the solid side at time t: the particle left the domain.
+  virtual bool has_escaped(const Vec3& centre, double time) const = 0;
+  /// Human-readable description for logs, e.g. "wall point (0,0,-0.01) normal (0,0,1)".
+  virtual std::string describe() const = 0;
+};
+
+using BoundaryList = std::vector<std::shared_ptr<const Boundary>>;
+
+/// A plane through point(t) = point0 + velocity t with a fixed unit normal pointing into the
+/// domain (the particles' side). Signed distance of x: d = (x - point(t)) . n [m].
+class PlaneWall final : public Boundary {
+ public:
+  /// Throws InputError if |normal| is zero or not finite; the normal is normalised.
+  PlaneWall(const Vec3& point, const Vec3& normal, const Vec3& velocity = Vec3::Zero());
+
+  std::optional<BoundaryContact> contact(const Vec3& centre, double radius,
+                                         double time) const override;
+  bool has_escaped(const Vec3& centre, double time) const override;
+  std::string describe() const override;
+
+  Vec3 point_at(double time) const { return point_ + velocity_ * time; }  ///< [m]
+  const Vec3& normal() const { return normal_; }
+  const Vec3& velocity() const { return velocity_; }  ///< [m/s]
+
+ private:
+  Vec3 point_;
+  Vec3 normal_;
+  Vec3 velocity_;
+};
+
+}  // namespace ppohdem::dem

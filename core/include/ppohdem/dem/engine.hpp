@@ -1,0 +1,67 @@
+#pragma once
+/// \file engine.hpp
+/// The DEM engine interface. The reference engine (ppohdem::reference::dem) and the later
+/// optimized engine implement it; the typed contract tests in tests/dem run against every
+/// implementation (STYLE.md habit 9).
+///
+/// Contract of step(), velocity Verlet (Allen & Tildesley 1987, sec. 3.2.1) for translation
+/// and rotation of spheres (I = (2/5) m R^2; no orientation is kept, spheres are isotropic):
+///   v(n+1/2) = v(n) + a(n) dt/2,            w(n+1/2) = w(n) + alpha(n) dt/2
+///   x(n+1)   = x(n) + v(n+1/2) dt
+///   forces at x(n+1), with the velocity-dependent parts (dashpot, tangential increment) using
+///   v(n+1/2), w(n+1/2) and boundaries at time t(n+1)
+///   v(n+1)   = v(n+1/2) + a(n+1) dt/2,      w(n+1) = w(n+1/2) + alpha(n+1) dt/2
+/// with a = F/m + g, alpha = T/I. For constant acceleration this is exact (free fall).
+/// Contacts are evaluated in (id_i, id_j) order so results do not depend on storage order.
+#include <cstddef>
+#include <memory>
+#include <string>
+
+#include "ppohdem/dem/particle.hpp"
+#include "ppohdem/dem/simulation_setup.hpp"
+
+namespace ppohdem::dem {
+
+/// Energies of the whole system [J]. With fixed boundaries
+///   kinetic + rotational + gravitational + elastic + dissipated
+/// is constant up to the integrator error; with moving boundaries subtract boundary_work.
+struct Energies {
+  double kinetic = 0.0;        ///< sum m v^2 / 2
+  double rotational = 0.0;     ///< sum I w^2 / 2
+  double gravitational = 0.0;  ///< sum -m g . x (zero at the origin)
+  double elastic = 0.0;        ///< stored in normal and tangential contact springs
+  double dissipated = 0.0;     ///< cumulative: dashpots, friction slip, broken springs,
+                               ///< Mindlin stiffness change (contact_force.hpp)
+  double boundary_work = 0.0;  ///< cumulative work done on particles by moving boundaries
+  double total() const { return kinetic + rotational + gravitational + elastic + dissipated - boundary_work; }
+};
+
+struct ContactCounts {
+  std::size_t particle_pairs = 0;     ///< touching particle pairs
+  std::size_t particle_boundary = 0;  ///< touching (particle, boundary) pairs
+};
+
+class DemEngine {
+ public:
+  virtual ~DemEngine() = default;
+  virtual std::string name() const = 0;  ///< "reference", ...
+  /// Advance by one time step dt (contract above).
+  virtual void step() = 0;
+  void advance(long steps) {
+    for (long s = 0; s < steps; ++s) step();
+  }
+  virtual long step_count() const = 0;
+  virtual double time() const = 0;  ///< [s] = step_count * dt
+  /// Particles in the order given at construction; force/torque from the last evaluation.
+  virtual const Particles& particles() const = 0;
+  virtual Energies energies() const = 0;
+  virtual ContactCounts contact_counts() const = 0;
+  /// Particles whose centre crossed a boundary (counted once each; they are then ignored by
+  /// that boundary). A warning is printed on stderr the first time.
+  virtual std::size_t escaped_count() const = 0;
+};
+
+/// How applications make an engine without knowing its library (apps pick by name).
+using EngineFactory = std::unique_ptr<DemEngine> (*)(const SimulationSetup&);
+
+}  // namespace ppohdem::dem

@@ -1,0 +1,45 @@
+#pragma once
+/// \file scene.hpp
+/// Scene files (TOML). Every key, with units; keys not listed are errors that name the key.
+///
+///   [simulation] dt [s], steps, gravity = [gx, gy, gz] [m/s^2]
+///   [material]   density [kg/m^3], young [Pa], poisson, restitution, friction
+///   [contact]    model = "hertz-mindlin" | "linear";
+///                linear only: stiffness [N/m] or collision_time [s] (for two particles of
+///                the mean radius), tangential_stiffness_ratio (default 2/7)
+///   [particles]  file = "p.csv" (relative to the scene file), or
+///                generator = "lattice" | "random", box_min, box_max [m], count, radius [m],
+///                radius_max [m] (optional), seed, velocity [m/s] (optional), jitter (lattice);
+///                allow_overlap = false
+///   [[wall]]     point [m], normal (into the domain), velocity [m/s] (optional)
+///   [output]     dir (relative to the scene file), every (steps), formats = ["csv","vtk",
+///                "pov"], progress = true (stderr)
+/// Only [simulation], [material], [contact] and [particles] are required.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ppohdem/dem/simulation_setup.hpp"
+
+namespace ppohdem::dem {
+
+struct OutputSpec {
+  std::filesystem::path dir;  ///< absolute or relative to the working directory
+  long every = 0;             ///< frame interval in steps; 0 = no frames
+  bool csv = false;
+  bool vtk = false;
+  bool pov = false;
+  bool progress = true;
+};
+
+struct Scene {
+  SimulationSetup setup;
+  long steps = 0;
+  OutputSpec output;
+};
+
+/// Reads and checks a scene; throws InputError(file, line, ...) naming the key. Does not run
+/// validate_setup (the engine does, so --force can still be applied).
+Scene read_scene(const std::filesystem::path& file);
+
+}  // namespace ppohdem::dem

@@ -1,0 +1,46 @@
+#include "ppohdem/dem/material.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "ppohdem/error.hpp"
+#include "ppohdem/units.hpp"
+
+namespace ppohdem::dem {
+
+double Material::mass(double radius) const {
+  return density * 4.0 / 3.0 * units::kPi * radius * radius * radius;
+}
+
+double Material::moment_of_inertia(double radius) const {
+  return 0.4 * mass(radius) * radius * radius;
+}
+
+double harmonic_pair(double a, double b) {
+  if (std::isinf(b)) return a;
+  if (std::isinf(a)) return b;
+  return a * b / (a + b);
+}
+
+void validate(const Material& m, bool needs_elastic, const std::string& where) {
+  auto fail = [&](const std::string& what) { throw InputError(where, 0, "[material] " + what); };
+  if (!(m.density > 0.0) || !std::isfinite(m.density)) {
+    fail("density must be > 0 kg/m^3, got " + std::to_string(m.density));
+  }
+  if (!(m.restitution > 0.0 && m.restitution <= 1.0)) {
+    fail("restitution must be in (0, 1], got " + std::to_string(m.restitution));
+  }
+  if (!(m.friction >= 0.0) || !std::isfinite(m.friction)) {
+    fail("friction must be >= 0, got " + std::to_string(m.friction));
+  }
+  if (needs_elastic) {
+    if (!(m.young > 0.0) || !std::isfinite(m.young)) {
+      fail("young must be > 0 Pa, got " + std::to_string(m.young));
+    }
+    if (!(m.poisson > -1.0 && m.poisson < 0.5)) {
+      fail("poisson must be in (-1, 0.5), got " + std::to_string(m.poisson));
+    }
+  }
+}
+
+}  // namespace ppohdem::dem

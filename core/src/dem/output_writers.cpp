@@ -1,0 +1,102 @@
+#include "ppohdem/dem/output_writers.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "ppohdem/io/atomic_file.hpp"
+
+namespace ppohdem::dem {
+
+std::string frame_stem(long step) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "frame_%06ld", step);
+  return buf;
+}
+
+void write_vtk_frame(const std::filesystem::path& file, const Particles& particles,
+                     const std::string& header) {
+  AtomicFileWriter writer(file);
+  std::ostream& out = writer.stream();
+  // Legacy VTK: the title line is at most 256 characters.
+  out << "# vtk DataFile Version 3.0\n" << header.substr(0, 255) << "\nASCII\nDATASET POLYDATA\n";
+  const std::size_t n = particles.size();
+  char buf[160];
+  out << "POINTS " << n << " double\n";
+  for (const Particle& p : particles) {
+    std::snprintf(buf, sizeof buf, "%.10g %.10g %.10g\n", p.position.x(), p.position.y(), p.position.z());
+    out << buf;
+  }
+  out << "VERTICES " << n << ' ' << 2 * n << '\n';
+  for (std::size_t i = 0; i < n; ++i) out << "1 " << i << '\n';
+  out << "POINT_DATA " << n << "\nSCALARS radius double 1\nLOOKUP_TABLE default\n";
+  for (const Particle& p : particles) {
+    std::snprintf(buf, sizeof buf, "%.10g\n", p.radius);
+    out << buf;
+  }
+  out << "SCALARS id double 1\nLOOKUP_TABLE default\n";
+  for (const Particle& p : particles) out << p.id << '\n';
+  auto vectors = [&](const char* name, auto get) {
+    out << "VECTORS " << name << " double\n";
+    for (const Particle& p : particles) {
+      const Vec3 v = get(p);
+      std::snprintf(buf, sizeof buf, "%.10g %.10g %.10g\n", v.x(), v.y(), v.z());
+      out << buf;
+    }
+  };
+  vectors("velocity", [](const Particle& p) { return p.velocity; });
+  vectors("angular_velocity", [](const Particle& p) { return p.angular_velocity; });
+  writer.commit();
+}
+
+void write_pov_frame(const std::filesystem::path& file, const Particles& particles,
+                     const std::string& header) {
+  AtomicFileWriter writer(file);
+  std::ostream& out = writer.stream();
+  out << "// " << header << "\n// POV-Ray scene: <x, z, y> because POV-Ray is y-up (as the seed).\n";
+  // Frame the particles: camera on the -y side (POV -z), looking at the centre.
+  Vec3 lo = Vec3::Constant(0.0), hi = Vec3::Constant(0.0);
+  if (!particles.empty()) {
+    lo = hi = particles.front().position;
+    for (const Particle& p : particles) {
+      lo = lo.cwiseMin(p.position - Vec3::Constant(p.radius));
+      hi = hi.cwiseMax(p.position + Vec3::Constant(p.radius));
+    }
+  }
+  const Vec3 c = 0.5 * (lo + hi);
+  const double size = std::max((hi - lo).maxCoeff(), 1e-12);
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "#include \"colors.inc\"\nbackground { color White }\n"
+                "camera { location <%.8g, %.8g, %.8g> look_at <%.8g, %.8g, %.8g> }\n"
+                "light_source { <%.8g, %.8g, %.8g> color White }\n",
+                c.x(), c.z() + 0.5 * size, c.y() - 2.0 * size, c.x(), c.z(), c.y(),
+                c.x() + size, c.z() + 2.0 * size, c.y() - 2.0 * size);
+  out << buf;
+  for (const Particle& p : particles) {
+    std::snprintf(buf, sizeof buf, "sphere { <%.10g, %.10g, %.10g>, %.10g pigment { color rgb <0.8, 0.5, 0.2> } }\n",
+                  p.position.x(), p.position.z(), p.position.y(), p.radius);
+    out << buf;
+  }
+  writer.commit();
+}
+
+EnergyLog::EnergyLog(std::filesystem::path file, std::string header)
+    : file_(std::move(file)), header_(std::move(header)) {}
+
+void EnergyLog::add(long step, double time, const Energies& e) {
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "%ld,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", step, time,
+                e.kinetic, e.rotational, e.gravitational, e.elastic, e.dissipated, e.boundary_work);
+  rows_.emplace_back(buf);
+}
+
+void EnergyLog::flush() const {
+  AtomicFileWriter writer(file_);
+  std::ostream& out = writer.stream();
+  out << "# " << header_ << '\n';
+  out << "step,time,kinetic,rotational,gravitational,elastic,dissipated,boundary_work\n";
+  for (const std::string& row : rows_) out << row << '\n';
+  writer.commit();
+}
+
+}  // namespace ppohdem::dem

@@ -1,0 +1,127 @@
+#include "ppohdem/dem/particle_csv.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string_view>
+#include <unordered_set>
+#include <vector>
+
+#include "ppohdem/error.hpp"
+#include "ppohdem/io/atomic_file.hpp"
+
+namespace ppohdem::dem {
+namespace {
+
+constexpr std::string_view kHeader = "id,x,y,z,vx,vy,vz,wx,wy,wz,radius";
+constexpr std::size_t kColumns = 11;
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    fields.push_back(trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+}  // namespace
+
+Particles read_particles_csv(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  const std::string name = file.string();
+  if (!in) throw InputError(name, 0, "cannot open particle file");
+  Particles particles;
+  std::unordered_set<std::int64_t> ids;
+  std::string raw;
+  std::size_t line_no = 0;
+  bool header_seen = false;
+  while (std::getline(in, raw)) {
+    ++line_no;
+    const std::string_view line = trim(raw);
+    if (line.empty() || line.front() == '#') continue;
+    if (!header_seen) {
+      std::string compact;
+      for (char c : line) if (c != ' ' && c != '\t') compact += c;
+      if (compact != kHeader) {
+        throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "', found '" +
+                                            std::string(line) + "'");
+      }
+      header_seen = true;
+      continue;
+    }
+    const auto fields = split(line);
+    if (fields.size() != kColumns) {
+      throw InputError(name, line_no, "expected 11 comma-separated values, found " +
+                                          std::to_string(fields.size()));
+    }
+    Particle p;
+    {
+      const auto f = fields[0];
+      const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), p.id);
+      if (ec != std::errc() || ptr != f.data() + f.size()) {
+        throw InputError(name, line_no, "column 'id': expected an integer, found '" + std::string(f) + "'");
+      }
+    }
+    double v[kColumns - 1];
+    for (std::size_t c = 1; c < kColumns; ++c) {
+      const std::string field(fields[c]);
+      std::size_t used = 0;
+      bool ok = !field.empty();
+      try {
+        v[c - 1] = std::stod(field, &used);  // accepts "nan"/"inf": rejected below
+      } catch (const std::exception&) {
+        ok = false;
+      }
+      if (!ok || used != field.size()) {
+        throw InputError(name, line_no, "column " + std::to_string(c + 1) + ": expected a number, found '" + field + "'");
+      }
+      if (!std::isfinite(v[c - 1])) {
+        throw InputError(name, line_no, "column " + std::to_string(c + 1) + ": expected a finite number, found '" + field + "'");
+      }
+    }
+    p.position = Vec3(v[0], v[1], v[2]);
+    p.velocity = Vec3(v[3], v[4], v[5]);
+    p.angular_velocity = Vec3(v[6], v[7], v[8]);
+    p.radius = v[9];
+    if (!(p.radius > 0.0)) {
+      throw InputError(name, line_no, "radius must be > 0 m, found " + std::string(fields[10]));
+    }
+    if (!ids.insert(p.id).second) {
+      throw InputError(name, line_no, "id " + std::to_string(p.id) + " appears twice");
+    }
+    particles.push_back(p);
+  }
+  if (!header_seen) throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "', found end of file");
+  return particles;
+}
+
+void write_particles_csv(const std::filesystem::path& file, const Particles& particles,
+                         const std::string& header_comment) {
+  AtomicFileWriter writer(file);
+  std::ostream& out = writer.stream();
+  if (!header_comment.empty()) out << "# " << header_comment << '\n';
+  out << kHeader << '\n';
+  char buf[512];
+  for (const Particle& p : particles) {
+    std::snprintf(buf, sizeof buf,
+                  "%lld,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                  static_cast<long long>(p.id), p.position.x(), p.position.y(), p.position.z(),
+                  p.velocity.x(), p.velocity.y(), p.velocity.z(), p.angular_velocity.x(),
+                  p.angular_velocity.y(), p.angular_velocity.z(), p.radius);
+    out << buf;
+  }
+  writer.commit();
+}
+
+}  // namespace ppohdem::dem

@@ -1,0 +1,45 @@
+#include <cmath>
+#include <sstream>
+
+#include "ppohdem/dem/boundary.hpp"
+#include "ppohdem/error.hpp"
+
+namespace ppohdem::dem {
+
+PlaneWall::PlaneWall(const Vec3& point, const Vec3& normal, const Vec3& velocity)
+    : point_(point), normal_(normal), velocity_(velocity) {
+  const double length = normal.norm();
+  if (!(length > 0.0) || !std::isfinite(length) || !point.allFinite() || !velocity.allFinite()) {
+    throw InputError("wall: expected a finite point, velocity and a non-zero normal");
+  }
+  normal_ /= length;
+}
+
+std::optional<BoundaryContact> PlaneWall::contact(const Vec3& centre, double radius,
+                                                  double time) const {
+  const Vec3 p = point_at(time);
+  const double distance = (centre - p).dot(normal_);  // signed, > 0 on the domain side [m]
+  if (distance <= 0.0 || distance >= radius) return std::nullopt;
+  BoundaryContact c;
+  c.normal = normal_;
+  c.overlap = radius - distance;
+  c.point = centre - distance * normal_;
+  c.surface_velocity = velocity_;
+  return c;
+}
+
+bool PlaneWall::has_escaped(const Vec3& centre, double time) const {
+  return (centre - point_at(time)).dot(normal_) <= 0.0;
+}
+
+std::string PlaneWall::describe() const {
+  std::ostringstream s;
+  s << "wall point (" << point_.x() << ", " << point_.y() << ", " << point_.z() << ") normal ("
+    << normal_.x() << ", " << normal_.y() << ", " << normal_.z() << ")";
+  if (velocity_.squaredNorm() > 0.0) {
+    s << " velocity (" << velocity_.x() << ", " << velocity_.y() << ", " << velocity_.z() << ")";
+  }
+  return s.str();
+}
+
+}  // namespace ppohdem::dem

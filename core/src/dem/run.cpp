@@ -1,0 +1,74 @@
+#include "ppohdem/dem/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "ppohdem/dem/output_writers.hpp"
+#include "ppohdem/dem/particle_csv.hpp"
+#include "ppohdem/error.hpp"
+
+namespace ppohdem::dem {
+
+RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& header,
+                     std::ostream& log) {
+  namespace fs = std::filesystem;
+  const OutputSpec& out = scene.output;
+  std::error_code ec;
+  fs::create_directories(out.dir, ec);
+  if (!fs::is_directory(out.dir)) {
+    throw InputError(out.dir.string(), 0, "cannot create the output directory");
+  }
+  EnergyLog energy(out.dir / "energy.csv", header);
+  const long energy_every = out.every > 0 ? out.every : std::max(1L, scene.steps / 100);
+  RunSummary summary;
+  summary.initial = engine.energies();
+
+  auto write_frame = [&](long step) {
+    const fs::path stem = out.dir / frame_stem(step);
+    if (out.csv) write_particles_csv(fs::path(stem).concat(".csv"), engine.particles(), header);
+    if (out.vtk) write_vtk_frame(fs::path(stem).concat(".vtk"), engine.particles(), header);
+    if (out.pov) write_pov_frame(fs::path(stem).concat(".pov"), engine.particles(), header);
+    if (out.csv || out.vtk || out.pov) ++summary.frames;
+  };
+
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  auto last_report = start;
+  long last_percent = 0;
+  energy.add(engine.step_count(), engine.time(), summary.initial);
+  if (out.every > 0) write_frame(engine.step_count());
+  for (long s = 1; s <= scene.steps; ++s) {
+    engine.step();
+    const long step = engine.step_count();
+    if (s % energy_every == 0 || s == scene.steps) energy.add(step, engine.time(), engine.energies());
+    if (out.every > 0 && s % out.every == 0) {
+      write_frame(step);
+      energy.flush();
+    }
+    if (out.progress && scene.steps >= 1000) {
+      const long percent = 100 * s / scene.steps;
+      const auto now = clock::now();
+      if (percent >= last_percent + 10 || now - last_report > std::chrono::seconds(5)) {
+        const double elapsed = std::chrono::duration<double>(now - start).count();
+        std::fprintf(stderr, "simulate: step %ld / %ld (%ld %%), %.1f s elapsed, %.0f s left\n", s,
+                     scene.steps, percent, elapsed,
+                     elapsed * static_cast<double>(scene.steps - s) / static_cast<double>(s));
+        last_percent = percent - percent % 10;
+        last_report = now;
+      }
+    }
+  }
+  summary.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  summary.steps = scene.steps;
+  summary.final = engine.energies();
+  summary.escaped = engine.escaped_count();
+  log << "simulate: " << scene.steps << " steps of " << engine.particles().size()
+      << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
+  energy.flush();
+  write_particles_csv(out.dir / "final.csv", engine.particles(), header);
+  return summary;
+}
+
+}  // namespace ppohdem::dem

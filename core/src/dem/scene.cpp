@@ -1,0 +1,262 @@
+// Scene reader (TOML via toml++, a private dependency of ppohdem_core: no toml++ type
+// appears in a public header).
+#include "ppohdem/dem/scene.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <initializer_list>
+#include <optional>
+#include <string_view>
+
+#include "ppohdem/dem/particle_csv.hpp"
+#include "ppohdem/dem/particle_generator.hpp"
+#include "ppohdem/error.hpp"
+
+namespace ppohdem::dem {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SceneParser {
+ public:
+  explicit SceneParser(fs::path file) : file_(std::move(file)), name_(file_.string()) {}
+
+  Scene parse() {
+    toml::table root;
+    try {
+      root = toml::parse_file(name_);
+    } catch (const toml::parse_error& e) {
+      throw InputError(name_, e.source().begin.line, std::string(e.description()));
+    }
+    check_keys(root, "", {"simulation", "material", "contact", "particles", "wall", "output"});
+    Scene scene;
+    SimulationSetup& s = scene.setup;
+    s.source = name_;
+
+    const toml::table& sim = require_table(root, "simulation");
+    check_keys(sim, "simulation", {"dt", "steps", "gravity"});
+    s.dt = require_number(sim, "simulation", "dt");
+    scene.steps = require_integer(sim, "simulation", "steps");
+    if (scene.steps < 0) fail(sim.get("steps"), "[simulation] steps must be >= 0");
+    s.gravity = optional_vec3(sim, "simulation", "gravity").value_or(Vec3::Zero());
+
+    const toml::table& mat = require_table(root, "material");
+    check_keys(mat, "material", {"density", "young", "poisson", "restitution", "friction"});
+    s.material.density = require_number(mat, "material", "density");
+    s.material.young = optional_number(mat, "material", "young").value_or(0.0);
+    s.material.poisson = optional_number(mat, "material", "poisson").value_or(0.0);
+    s.material.restitution = require_number(mat, "material", "restitution");
+    s.material.friction = optional_number(mat, "material", "friction").value_or(0.0);
+
+    const toml::table& contact = require_table(root, "contact");
+    check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio"});
+    const std::string model = require_string(contact, "contact", "model");
+    const toml::table& particles = require_table(root, "particles");
+    read_particles(particles, s);
+
+    if (model == "hertz-mindlin") {
+      validate(s.material, true, name_);
+      for (const char* key : {"stiffness", "collision_time", "tangential_stiffness_ratio"}) {
+        if (contact.contains(key)) fail(contact.get(key), std::string("[contact] ") + key + " applies to model = \"linear\" only");
+      }
+      s.law = HertzMindlin::from_material(s.material);
+    } else if (model == "linear") {
+      validate(s.material, false, name_);
+      const auto k_n = optional_number(contact, "contact", "stiffness");
+      const auto t_c = optional_number(contact, "contact", "collision_time");
+      const double ratio = optional_number(contact, "contact", "tangential_stiffness_ratio").value_or(2.0 / 7.0);
+      if (k_n.has_value() == t_c.has_value()) {
+        fail(&contact, "[contact] model = \"linear\" needs exactly one of stiffness [N/m] or collision_time [s]");
+      }
+      if (k_n) {
+        s.law = LinearSpringDashpot::from_stiffness(*k_n, s.material.restitution, s.material.friction, ratio);
+      } else {
+        // Reference pair: two particles of the mean radius, m* = m(R_mean)/2.
+        double r_sum = 0.0;
+        for (const Particle& p : s.particles) r_sum += p.radius;
+        const double r_mean = s.particles.empty() ? 1.0 : r_sum / static_cast<double>(s.particles.size());
+        s.law = LinearSpringDashpot::from_collision_time(*t_c, s.material.mass(r_mean) / 2.0,
+                                                         s.material.restitution, s.material.friction, ratio);
+      }
+    } else {
+      fail(contact.get("model"), "[contact] model: expected \"hertz-mindlin\" or \"linear\", found \"" + model + "\"");
+    }
+
+    if (const toml::node* walls = root.get("wall")) {
+      const toml::array* list = walls->as_array();
+      if (!list) fail(walls, "[[wall]] must be an array of tables");
+      for (const toml::node& w : *list) {
+        const toml::table* t = w.as_table();
+        if (!t) fail(&w, "[[wall]] entries must be tables");
+        check_keys(*t, "wall", {"point", "normal", "velocity"});
+        const Vec3 point = *require_vec3(*t, "wall", "point");
+        const Vec3 normal = *require_vec3(*t, "wall", "normal");
+        const Vec3 velocity = optional_vec3(*t, "wall", "velocity").value_or(Vec3::Zero());
+        if (!(normal.norm() > 0.0)) fail(t->get("normal"), "[[wall]] normal must not be zero");
+        s.boundaries.push_back(std::make_shared<PlaneWall>(point, normal, velocity));
+      }
+    }
+
+    if (const toml::node* out_node = root.get("output")) {
+      const toml::table* out = out_node->as_table();
+      if (!out) fail(out_node, "[output] must be a table");
+      check_keys(*out, "output", {"dir", "every", "formats", "progress"});
+      scene.output.dir = relative_to_scene(require_string(*out, "output", "dir"));
+      scene.output.every = optional_integer(*out, "output", "every").value_or(0);
+      if (scene.output.every < 0) fail(out->get("every"), "[output] every must be >= 0");
+      scene.output.progress = optional_bool(*out, "output", "progress").value_or(true);
+      if (const toml::node* f = out->get("formats")) {
+        const toml::array* formats = f->as_array();
+        if (!formats) fail(f, "[output] formats: expected an array of strings");
+        for (const toml::node& item : *formats) {
+          const auto name = item.value<std::string>();
+          if (name == "csv") scene.output.csv = true;
+          else if (name == "vtk") scene.output.vtk = true;
+          else if (name == "pov") scene.output.pov = true;
+          else fail(&item, "[output] formats: expected \"csv\", \"vtk\" or \"pov\", found " + name.value_or("a non-string"));
+        }
+      }
+    } else {
+      scene.output.dir = relative_to_scene("out");
+    }
+    return scene;
+  }
+
+ private:
+  [[noreturn]] void fail(const toml::node* node, const std::string& what) const {
+    throw InputError(name_, node ? static_cast<std::size_t>(node->source().begin.line) : 0, what);
+  }
+
+  void check_keys(const toml::table& t, std::string_view table, std::initializer_list<std::string_view> allowed) const {
+    for (const auto& [key, node] : t) {
+      bool known = false;
+      for (std::string_view a : allowed) known = known || key.str() == a;
+      if (!known) {
+        std::string list;
+        for (std::string_view a : allowed) {
+          if (!list.empty()) list += ", ";
+          list += a;
+        }
+        std::string where = "top level";
+        if (!table.empty()) {
+          where = "[";
+          where += table;
+          where += "]";
+        }
+        fail(&node, "unknown key '" + std::string(key.str()) + "' in " + where + " (expected one of: " + list + ")");
+      }
+    }
+  }
+
+  const toml::table& require_table(const toml::table& root, const char* key) const {
+    const toml::node* n = root.get(key);
+    if (!n) throw InputError(name_, 0, std::string("missing table [") + key + "]");
+    if (!n->is_table()) fail(n, std::string("[") + key + "] must be a table");
+    return *n->as_table();
+  }
+
+  std::optional<double> optional_number(const toml::table& t, const char* table, const char* key) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_number()) fail(n, std::string("[") + table + "] " + key + ": expected a number");
+    const double v = n->value<double>().value();
+    if (!std::isfinite(v)) fail(n, std::string("[") + table + "] " + key + ": expected a finite number");
+    return v;
+  }
+  double require_number(const toml::table& t, const char* table, const char* key) const {
+    if (!t.contains(key)) fail(&t, std::string("[") + table + "] missing key '" + key + "'");
+    return *optional_number(t, table, key);
+  }
+  std::optional<long> optional_integer(const toml::table& t, const char* table, const char* key) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_integer()) fail(n, std::string("[") + table + "] " + key + ": expected an integer");
+    return static_cast<long>(n->value<std::int64_t>().value());
+  }
+  long require_integer(const toml::table& t, const char* table, const char* key) const {
+    if (!t.contains(key)) fail(&t, std::string("[") + table + "] missing key '" + key + "'");
+    return *optional_integer(t, table, key);
+  }
+  std::optional<bool> optional_bool(const toml::table& t, const char* table, const char* key) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_boolean()) fail(n, std::string("[") + table + "] " + key + ": expected true or false");
+    return n->value<bool>().value();
+  }
+  std::string require_string(const toml::table& t, const char* table, const char* key) const {
+    const toml::node* n = t.get(key);
+    if (!n) fail(&t, std::string("[") + table + "] missing key '" + key + "'");
+    if (!n->is_string()) fail(n, std::string("[") + table + "] " + key + ": expected a string");
+    return n->value<std::string>().value();
+  }
+  std::optional<Vec3> optional_vec3(const toml::table& t, const char* table, const char* key) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 3) fail(n, std::string("[") + table + "] " + key + ": expected an array of 3 numbers");
+    Vec3 v;
+    for (std::size_t i = 0; i < 3; ++i) {
+      const toml::node& item = *a->get(i);
+      if (!item.is_number()) fail(&item, std::string("[") + table + "] " + key + ": expected an array of 3 numbers");
+      v[static_cast<Eigen::Index>(i)] = item.value<double>().value();
+    }
+    if (!v.allFinite()) fail(n, std::string("[") + table + "] " + key + ": expected finite numbers");
+    return v;
+  }
+  std::optional<Vec3> require_vec3(const toml::table& t, const char* table, const char* key) const {
+    if (!t.contains(key)) fail(&t, std::string("[") + table + "] missing key '" + key + "'");
+    return optional_vec3(t, table, key);
+  }
+
+  fs::path relative_to_scene(const std::string& path) const {
+    const fs::path p(path);
+    return p.is_absolute() ? p : file_.parent_path() / p;
+  }
+
+  void read_particles(const toml::table& t, SimulationSetup& s) const {
+    check_keys(t, "particles", {"file", "generator", "box_min", "box_max", "count", "radius",
+                                "radius_max", "seed", "velocity", "jitter", "allow_overlap"});
+    s.allow_initial_overlap = optional_bool(t, "particles", "allow_overlap").value_or(false);
+    const bool has_file = t.contains("file");
+    const bool has_generator = t.contains("generator");
+    if (has_file == has_generator) fail(&t, "[particles] needs exactly one of file = \"...\" or generator = \"lattice\"|\"random\"");
+    if (has_file) {
+      for (const char* key : {"box_min", "box_max", "count", "radius", "radius_max", "seed", "velocity", "jitter"}) {
+        if (t.contains(key)) fail(t.get(key), std::string("[particles] ") + key + " applies to a generator, not to file =");
+      }
+      s.particles = read_particles_csv(relative_to_scene(require_string(t, "particles", "file")));
+      return;
+    }
+    GeneratorSpec spec;
+    const std::string kind = require_string(t, "particles", "generator");
+    if (kind == "lattice") spec.kind = GeneratorKind::kLattice;
+    else if (kind == "random") spec.kind = GeneratorKind::kRandom;
+    else fail(t.get("generator"), "[particles] generator: expected \"lattice\" or \"random\", found \"" + kind + "\"");
+    spec.box_min = *require_vec3(t, "particles", "box_min");
+    spec.box_max = *require_vec3(t, "particles", "box_max");
+    spec.count = require_integer(t, "particles", "count");
+    spec.radius = require_number(t, "particles", "radius");
+    if (!(spec.radius > 0.0)) fail(t.get("radius"), "[particles] radius must be > 0 m");
+    spec.radius_max = optional_number(t, "particles", "radius_max").value_or(spec.radius);
+    if (spec.radius_max < spec.radius) fail(t.get("radius_max"), "[particles] radius_max must be >= radius");
+    const long seed = optional_integer(t, "particles", "seed").value_or(1);
+    spec.seed = static_cast<std::uint64_t>(seed);
+    spec.velocity = optional_vec3(t, "particles", "velocity").value_or(Vec3::Zero());
+    spec.jitter = optional_number(t, "particles", "jitter").value_or(0.0);
+    if (spec.jitter < 0.0 || spec.jitter > 1.0) fail(t.get("jitter"), "[particles] jitter must be in [0, 1] (fraction of the radius)");
+    s.particles = generate_particles(spec, name_);
+  }
+
+  fs::path file_;
+  std::string name_;
+};
+
+}  // namespace
+
+Scene read_scene(const std::filesystem::path& file) {
+  if (!fs::exists(file)) throw InputError(file.string(), 0, "scene file does not exist");
+  return SceneParser(file).parse();
+}
+
+}  // namespace ppohdem::dem

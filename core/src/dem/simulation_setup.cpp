@@ -1,0 +1,108 @@
+#include "ppohdem/dem/simulation_setup.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <unordered_set>
+
+#include "ppohdem/error.hpp"
+#include "ppohdem/units.hpp"
+
+namespace ppohdem::dem {
+namespace {
+
+std::string seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g s", s);
+  return buf;
+}
+
+}  // namespace
+
+double rayleigh_time(double radius, const Material& material) {
+  // T_R = pi R sqrt(rho / G) / (0.1631 nu + 0.8766)  [s]
+  return units::kPi * radius * std::sqrt(material.density / material.shear_modulus()) /
+         (0.1631 * material.poisson + 0.8766);
+}
+
+TimeStepLimit time_step_limit(const SimulationSetup& setup) {
+  double r_min = std::numeric_limits<double>::infinity();
+  for (const Particle& p : setup.particles) r_min = std::min(r_min, p.radius);
+  if (setup.particles.empty()) return {std::numeric_limits<double>::infinity(), "no particles"};
+  if (const auto* linear = std::get_if<LinearSpringDashpot>(&setup.law)) {
+    const double m_eff = setup.material.mass(r_min) / 2.0;  // lightest pair, m* = m/2
+    const double half_period = units::kPi * std::sqrt(m_eff / linear->normal_stiffness());
+    return {0.2 * half_period, "0.2 * pi sqrt(m*/k_n) = 0.2 * " + seconds(half_period) +
+                                   " (undamped half period of the lightest pair)"};
+  }
+  const double t_r = rayleigh_time(r_min, setup.material);
+  return {0.2 * t_r, "0.2 * Rayleigh time " + seconds(t_r) + " of the smallest particle"};
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> overlapping_pairs(const Particles& particles,
+                                                                   double fraction) {
+  std::vector<std::size_t> order(particles.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return particles[a].position.x() < particles[b].position.x();
+  });
+  double r_max = 0.0;
+  for (const Particle& p : particles) r_max = std::max(r_max, p.radius);
+  std::vector<std::pair<std::size_t, std::size_t>> found;
+  for (std::size_t a = 0; a < order.size(); ++a) {
+    const Particle& pi = particles[order[a]];
+    for (std::size_t b = a + 1; b < order.size(); ++b) {
+      const Particle& pj = particles[order[b]];
+      if (pj.position.x() - pi.position.x() > pi.radius + r_max) break;
+      const double overlap = pi.radius + pj.radius - (pi.position - pj.position).norm();
+      if (overlap > fraction * std::min(pi.radius, pj.radius)) {
+        found.emplace_back(std::min(order[a], order[b]), std::max(order[a], order[b]));
+      }
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+void validate_setup(const SimulationSetup& setup) {
+  const std::string& where = setup.source;
+  auto fail = [&](const std::string& what) { throw InputError(where, 0, what); };
+  if (!(setup.dt > 0.0) || !std::isfinite(setup.dt)) {
+    fail("[simulation] dt must be > 0 s, got " + std::to_string(setup.dt));
+  }
+  if (!setup.gravity.allFinite()) fail("[simulation] gravity must be finite");
+  validate(setup.material, std::holds_alternative<HertzMindlin>(setup.law), where);
+  std::unordered_set<std::int64_t> ids;
+  for (std::size_t i = 0; i < setup.particles.size(); ++i) {
+    const Particle& p = setup.particles[i];
+    const std::string record = "particle " + std::to_string(i) + " (id " + std::to_string(p.id) + "): ";
+    if (!(p.radius > 0.0) || !std::isfinite(p.radius)) {
+      fail(record + "radius must be > 0 m, got " + std::to_string(p.radius));
+    }
+    if (!p.position.allFinite() || !p.velocity.allFinite() || !p.angular_velocity.allFinite()) {
+      fail(record + "position, velocity and angular velocity must be finite");
+    }
+    if (!ids.insert(p.id).second) fail(record + "id repeated");
+  }
+  const TimeStepLimit limit = time_step_limit(setup);
+  if (setup.dt > limit.limit && !setup.force_time_step) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.4g s", limit.limit);
+    fail("[simulation] dt = " + seconds(setup.dt) + " is above the stability limit " + buf +
+         " (" + limit.reason + "); use a smaller dt, or --force to run anyway");
+  }
+  if (!setup.allow_initial_overlap) {
+    const auto pairs = overlapping_pairs(setup.particles, 0.01);
+    if (!pairs.empty()) {
+      const Particle& a = setup.particles[pairs.front().first];
+      const Particle& b = setup.particles[pairs.front().second];
+      const double overlap = a.radius + b.radius - (a.position - b.position).norm();
+      fail(std::to_string(pairs.size()) + " particle pair(s) overlap by more than 1% of the "
+           "smaller radius, e.g. ids " + std::to_string(a.id) + " and " + std::to_string(b.id) +
+           " by " + std::to_string(overlap) + " m; set [particles] allow_overlap = true to accept");
+    }
+  }
+}
+
+}  // namespace ppohdem::dem
