@@ -26,6 +26,7 @@
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/provenance.hpp"
 #include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 
 namespace ppohdem::app {
 namespace fs = std::filesystem;
@@ -39,7 +40,9 @@ struct VoxelizeOptions {
   std::vector<double> box;
   std::vector<double> placement;
   std::string placement_mode = "fit";
-  std::string method = "exact";
+  std::string method = "fast";
+  int threads = 0;                  // 0: OpenMP default
+  std::string precision = "double"; // fast method: double or float storage
   std::string out_vtk;
   int ranks = 1;
   bool quiet = false;
@@ -87,15 +90,42 @@ struct BuildResult {
   ScalarField field;
   SdfReport report;
   double seconds = 0.0;
+  std::size_t field_bytes = 0;  // the field as the builder stored it (float: half)
+  std::size_t peak_bytes = 0;   // peak resident memory, max over ranks
 };
 
-BuildResult build_field(const TriangleMesh& mesh, const GridSpec& grid, const VoxelizeOptions& o) {
-  auto builder = reference::make_reference_sdf_builder(o.method);
-  builder->set_progress(make_progress(grid.node_count(), o.quiet));
+// "fast" runs on every rank of `comm` (z-slabs, gathered on rank 0); the reference methods run
+// on rank 0 only. Only rank 0's result holds the field.
+BuildResult build_field(const TriangleMesh& mesh, const GridSpec& grid, const VoxelizeOptions& o, const Comm& comm) {
   BuildResult r;
   const auto t0 = std::chrono::steady_clock::now();
-  r.field = builder->build(mesh, grid, &r.report);
+  if (o.method == "fast") {
+    if (o.precision != "double" && o.precision != "float") {
+      throw InputError("--precision: expected double or float, got '" + o.precision + "'");
+    }
+    if (o.threads < 0) throw InputError("--threads must be >= 0 (0: all cores)");
+    FastSdfOptions options;
+    options.threads = o.threads;
+    FastSdfBuilder builder(options);
+    if (comm.rank() == 0) builder.set_progress(make_progress(grid.node_count(), o.quiet));
+    if (o.precision == "float") {
+      const std::vector<float> values = build_sdf_distributed_float(builder, comm, mesh, grid, &r.report);
+      r.field_bytes = values.size() * sizeof(float);
+      r.field.grid = grid;
+      r.field.values.assign(values.begin(), values.end());  // the writers take doubles
+    } else {
+      r.field = build_sdf_distributed(builder, comm, mesh, grid, &r.report);
+      r.field_bytes = r.field.values.size() * sizeof(double);
+    }
+  } else {
+    if (comm.size() > 1) throw InputError("--method " + o.method + " is serial: run it without mpirun, or use --method fast");
+    auto builder = reference::make_reference_sdf_builder(o.method);
+    builder->set_progress(make_progress(grid.node_count(), o.quiet));
+    r.field = builder->build(mesh, grid, &r.report);
+    r.field_bytes = r.field.values.size() * sizeof(double);
+  }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.peak_bytes = static_cast<std::size_t>(comm.max_over_ranks(static_cast<double>(peak_resident_bytes())));
   return r;
 }
 
@@ -122,6 +152,8 @@ void print_summary(const GridSpec& grid, const TriangleMesh& mesh, const BuildRe
               mesh.size(), human_seconds(r.seconds).c_str(), r.report.inside_fraction);
   for (const auto& w : warnings) std::printf("; warning: %s", w.c_str());
   std::printf("\n");
+  std::printf("voxelize: memory: field %.1f MiB, peak resident %.1f MiB (max over ranks)\n",
+              static_cast<double>(r.field_bytes) / 1048576.0, static_cast<double>(r.peak_bytes) / 1048576.0);
   for (const auto& o : outputs) std::printf("voxelize: wrote %s\n", o.c_str());
 }
 
@@ -145,7 +177,7 @@ fs::path resolve_legacy_base(const fs::path& input_file, const std::string& mesh
                        "' and in the current directory)");
 }
 
-void run_legacy(const VoxelizeOptions& o) {
+void run_legacy(const VoxelizeOptions& o, const Comm& comm) {
   const fs::path input_file(o.legacy_input);
   const VoxelizerInput in = read_voxelizer_input(input_file);
   const fs::path base = resolve_legacy_base(input_file, in.mesh_file);
@@ -165,7 +197,8 @@ void run_legacy(const VoxelizeOptions& o) {
   const GridSpec grid = GridSpec::ppohdem_legacy(in.length, in.voxels);
   grid.validate(input_file.string());
 
-  BuildResult r = build_field(mesh, grid, o);
+  BuildResult r = build_field(mesh, grid, o, comm);
+  if (comm.rank() != 0) return;  // rank 0 holds the field and writes the files
   add_geometry_warnings(mesh, grid, stats, r.report);
 
   if (o.ranks > grid.nodes[0]) {
@@ -178,13 +211,13 @@ void run_legacy(const VoxelizeOptions& o) {
   write_stl(out_dir / "object_mesh.stl", mesh, StlEncoding::kAscii, /*use_file_normals=*/true);
   outputs.push_back((out_dir / "object_mesh.stl").string());
   if (!o.out_vtk.empty()) {
-    write_vtk_structured_points(o.out_vtk, r.field, "distance", provenance_line());
+    write_vtk_structured_points(o.out_vtk, r.field, "distance", provenance_line(comm.size(), o.threads));
     outputs.push_back(o.out_vtk);
   }
   print_summary(grid, mesh, r, o.method, outputs);
 }
 
-void run_modern(const VoxelizeOptions& o) {
+void run_modern(const VoxelizeOptions& o, const Comm& comm) {
   if (o.mesh.empty() || o.cells.size() != 3 || o.box.size() != 6 || o.out_vtk.empty()) {
     throw InputError(
         "voxelize: give either an input_constants_voxelizer.dat file, or all of --mesh, --cells NX NY NZ, "
@@ -215,15 +248,16 @@ void run_modern(const VoxelizeOptions& o) {
   const GridSpec grid = GridSpec::spanning(Vec3(o.box[0], o.box[1], o.box[2]),
                                            Vec3(o.box[3], o.box[4], o.box[5]),
                                            {o.cells[0], o.cells[1], o.cells[2]});
-  BuildResult r = build_field(mesh, grid, o);
+  BuildResult r = build_field(mesh, grid, o, comm);
+  if (comm.rank() != 0) return;  // rank 0 holds the field and writes the files
   add_geometry_warnings(mesh, grid, stats, r.report);
-  write_vtk_structured_points(out, r.field, "distance", provenance_line());
+  write_vtk_structured_points(out, r.field, "distance", provenance_line(comm.size(), o.threads));
   print_summary(grid, mesh, r, o.method, {out.string()});
 }
 
 }  // namespace
 
-void register_voxelize(CLI::App& app) {
+void register_voxelize(CLI::App& app, const Comm& comm) {
   auto o = std::make_shared<VoxelizeOptions>();
   auto* cmd = app.add_subcommand("voxelize", "Signed distance of an STL mesh on a grid (DEM-Util distance_calculate)");
   cmd->add_option("input", o->legacy_input, "input_constants_voxelizer.dat (the seed's form)");
@@ -234,19 +268,21 @@ void register_voxelize(CLI::App& app) {
       ->expected(6)
       ->delimiter(',');
   cmd->add_option("--placement-mode", o->placement_mode, "fit (uniform, default), stretch (per axis) or original");
-  cmd->add_option("--method", o->method, "exact (default) or seed");
+  cmd->add_option("--method", o->method, "fast (default; OpenMP + MPI), exact or seed (reference, serial)");
+  cmd->add_option("--threads", o->threads, "fast: OpenMP threads per rank (0 = all cores)");
+  cmd->add_option("--precision", o->precision, "fast: field storage, double (default) or float (half the memory)");
   cmd->add_option("--out", o->out_vtk, "output legacy VTK file (modern form)");
   cmd->add_option("--vtk", o->out_vtk, "also write a VTK file (legacy form)");
   cmd->add_option("--ranks", o->ranks, "legacy form: split distance_NNNN.dat as N MPI ranks would");
   cmd->add_flag("--quiet", o->quiet, "no progress output");
-  cmd->callback([o] {
+  cmd->callback([o, &comm] {
     if (!o->legacy_input.empty()) {
       if (!o->mesh.empty() || !o->cells.empty() || !o->box.empty()) {
         throw InputError("voxelize: give either a legacy input file or --mesh/--cells/--box, not both");
       }
-      run_legacy(*o);
+      run_legacy(*o, comm);
     } else {
-      run_modern(*o);
+      run_modern(*o, comm);
     }
   });
 }

@@ -3,8 +3,10 @@
 // whose callback runs the command; errors propagate as exceptions to main().
 #include <CLI/CLI.hpp>
 
+#include "ppohdem/comm/comm.hpp"
+
 namespace ppohdem::app {
 void register_mesh_info(CLI::App& app);
-void register_voxelize(CLI::App& app);
+void register_voxelize(CLI::App& app, const ppohdem::Comm& comm);
 void register_simulate(CLI::App& app);
 }  // namespace ppohdem::app

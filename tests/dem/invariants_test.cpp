@@ -89,29 +89,51 @@ RC_GTEST_PROP(ContactForce, IsEqualAndOppositeForBothOrders, ()) {
   RC_ASSERT(f_ij.elastic_energy == f_ji.elastic_energy);
 }
 
-double energy_error_after(const Particles& p, double dt, double* e0) {
+/// Energy error of an elastic frictionless cluster (e = 1, mu = 0) run for 0.4 ms (several
+/// collisions) and then until no contact is active: the largest |E(t) - E(0)| seen on the way
+/// and the error once all contacts have ended, both relative to E(0).
+struct DriftMeasurement {
+  double largest = 0.0;
+  double after_contacts = 0.0;
+};
+DriftMeasurement energy_error(const Particles& p, double dt) {
   const auto setup = cluster_setup(p, 1.0, 0.0, dt);
   Engine engine(setup);
-  *e0 = engine.energies().total();
-  engine.advance(static_cast<long>(std::lround(4.0e-4 / dt)));  // 0.4 ms: collisions happened
-  // Compare states with no active contact: inside a contact Verlet's energy oscillates.
-  for (long s = 0; s < 100000 && engine.contact_counts().particle_pairs > 0; ++s) engine.step();
+  const double e0 = engine.energies().total();
+  DriftMeasurement m;
+  const long steps = std::lround(4.0e-4 / dt);
+  for (long s = 0; s < steps + 100000; ++s) {
+    if (s >= steps && engine.contact_counts().particle_pairs == 0) break;
+    engine.step();
+    m.largest = std::max(m.largest, std::abs(engine.energies().total() - e0) / e0);
+  }
   RC_ASSERT(engine.contact_counts().particle_pairs == 0u);
-  return std::abs(engine.energies().total() - *e0);
+  m.after_contacts = std::abs(engine.energies().total() - e0) / e0;
+  return m;
 }
 
-// DISABLED (known gap, see docs/dem.md): the error after contacts end is ~2e-8 of the
-// energy and halving dt reduced it only by ~1.4x in some clusters, not the 4x of O(dt^2).
-RC_GTEST_PROP(DemInvariants, DISABLED_ElasticFrictionlessEnergyDriftShrinksAsDtSquared, ()) {
+RC_GTEST_PROP(DemInvariants, ElasticFrictionlessEnergyErrorShrinksAsDtSquared, ()) {
+  // Velocity Verlet conserves a shadow energy E + O(dt^2) (Hairer, Lubich & Wanner 2006,
+  // ch. IX), so the energy error INSIDE contacts is O(dt^2): halving dt divides the largest
+  // error by 4 (measured 3.8..4.3 over random clusters at 1000..4000 steps per contact;
+  // accept [3, 5.3], the higher-order terms stay below ~25%).
+  // The error left AFTER the contacts end is not that term (the shadow correction vanishes
+  // with the forces); it comes from the non-smooth onset and end of each Hertz contact
+  // (F ~ delta^{3/2}: F'' is singular at delta = 0), is O(dt^{5/2}) times a function of
+  // where inside a step each contact starts and ends, and so changes erratically (even in
+  // sign) when dt changes: it is checked against the shadow error instead (measured
+  // <= 6% of it; bound 25%).
   const Particles p = random_cluster();
-  double e0 = 0.0;
-  const double coarse = energy_error_after(p, 2.0e-7, &e0);
-  const double fine = energy_error_after(p, 1.0e-7, &e0);
-  // Velocity Verlet: error O(dt^2), so halving dt divides it by ~4; accept a factor >= 3
-  // (higher-order terms at ~500 steps per contact) unless both are at round-off (1e-12).
-  RC_ASSERT(coarse <= 1e-4 * e0);
-  RC_LOG() << "coarse " << coarse / e0 << " fine " << fine / e0 << "\n";
-  if (coarse > 1e-12 * e0) RC_ASSERT(fine <= coarse / 3.0);
+  const auto coarse = energy_error(p, 2.0e-7);
+  const auto fine = energy_error(p, 1.0e-7);
+  RC_LOG() << "largest " << coarse.largest << " -> " << fine.largest << ", after contacts "
+           << coarse.after_contacts << " -> " << fine.after_contacts << "\n";
+  RC_PRE(coarse.largest > 1e-12);  // the cluster collided
+  const double ratio = coarse.largest / fine.largest;
+  RC_ASSERT(ratio >= 3.0);
+  RC_ASSERT(ratio <= 5.3);
+  RC_ASSERT(coarse.after_contacts <= 0.25 * coarse.largest);
+  RC_ASSERT(fine.after_contacts <= 0.25 * fine.largest);
 }
 
 double balance_error(double e, double mu) {
@@ -133,12 +155,30 @@ RC_GTEST_PROP(DemInvariants, EnergyBalanceHoldsWithDamping, ()) {
   RC_ASSERT(balance_error(0.5, 0.0) <= 1e-6);
 }
 
-RC_GTEST_PROP(DemInvariants, DISABLED_EnergyBalanceHoldsWithDampingAndFriction, ()) {
-  // DISABLED, KNOWN GAP: with friction the balance closes only to ~1e-5..1.4e-4 (over
-  // 100 random clusters, 3.2e-5 once), not the 1e-6; the bound here is 1e-4 until the source
-  // (probably the rectangle-rule accounting of the Mindlin stiffness-change term, or the
-  // tangential work at slip onset) is found. See docs/dem.md "Known gaps".
-  RC_ASSERT(balance_error(0.5, 0.5) <= 1e-4);
+RC_GTEST_PROP(DemInvariants, EnergyBalanceHoldsWithDampingAndFriction, ()) {
+  // The 1e-6, now with Mindlin springs, slip, stiffness change and frame rotation,
+  // all accounted with the trapezoid rule velocity Verlet applies to the kinetic energy
+  // (contact_force.hpp). What remains is the O(dt^2) error of the normal force (as without
+  // friction): measured 1.3e-7..3.2e-7 at dt = 5e-8 s (4x larger at twice the dt).
+  RC_ASSERT(balance_error(0.5, 0.5) <= 1e-6);
+}
+
+RC_GTEST_PROP(DemInvariants, FrictionalEnergyBalanceErrorIsSecondOrder, ()) {
+  // The balance error must shrink as dt^2 (a first-order accounting error, such as the
+  // rectangle rule for slip, shrinks only 2x). Same cluster at dt and dt/2 over the same
+  // physical time: measured ratios 3.5..4.1; accept >= 3 unless both are at round-off.
+  const Particles p = random_cluster();
+  auto error_at = [&](double dt) {
+    Engine engine(cluster_setup(p, 0.5, 0.5, dt));
+    const double e0 = engine.energies().total();
+    engine.advance(std::lround(6.0e-4 / dt));
+    RC_ASSERT(engine.energies().dissipated > 0.05 * e0);  // collided
+    return std::abs(engine.energies().total() - e0) / e0;
+  };
+  const double coarse = error_at(1.0e-7);
+  const double fine = error_at(0.5e-7);
+  RC_LOG() << "balance error " << coarse << " -> " << fine << "\n";
+  if (coarse > 1e-12) RC_ASSERT(fine <= coarse / 3.0);
 }
 
 RC_GTEST_PROP(DemInvariants, ResultsDoNotDependOnParticleOrder, ()) {
@@ -200,6 +240,13 @@ RC_GTEST_PROP(CellList, FindsExactlyTheBruteForcePairs, ()) {
                        Vec3(*rc::gen::inRange(-1000, 1001), *rc::gen::inRange(-1000, 1001),
                             *rc::gen::inRange(-1000, 1001)) * 1e-5,
                        Vec3::Zero(), (1 + *rc::gen::inRange(0, 100)) * 1e-5));
+  }
+  // Outliers far from the bulk (escaped particles) are clamped into the border cells of the
+  // grid: include a few, sometimes touching each other.
+  const int outliers = *rc::gen::inRange(0, 6);
+  for (int k = 0; k < outliers; ++k) {
+    const Vec3 far(*rc::gen::inRange(-1, 2), *rc::gen::inRange(-1, 2), *rc::gen::inRange(-1, 2));
+    p.push_back(sphere(2000000000 + k, far + Vec3(k % 2, 0, 0) * 5e-4, Vec3::Zero(), 1e-3));
   }
   RC_ASSERT(ppohdem::reference::dem::touching_pairs(p) ==
             ppohdem::reference::dem::touching_pairs_brute_force(p));

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <string>
 
 #include "ppohdem/mesh/mesh_stats.hpp"
@@ -43,6 +44,7 @@ struct Case {
   std::string mesh;
   int nodes;
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.mesh << " at " << c.nodes << "^3"; }
 
 class ExactMatchesCgal : public ::testing::TestWithParam<Case> {};
 

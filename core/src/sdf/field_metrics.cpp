@@ -164,8 +164,9 @@ std::string format_comparison(const FieldComparison& c) {
     return s.str();
   };
   auto node = [](const Index3& n) {
-    return "(" + std::to_string(n[0]) + ", " + std::to_string(n[1]) + ", " + std::to_string(n[2]) +
-           ")";
+    std::ostringstream s;  // (not "(" + std::string: GCC 12 gives a false -Wrestrict there)
+    s << '(' << n[0] << ", " << n[1] << ", " << n[2] << ')';
+    return s.str();
   };
   row("h [world units]", num(c.h));
   row("band |oracle| < [h]", num(c.band_in_h));

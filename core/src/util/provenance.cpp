@@ -7,9 +7,20 @@
 
 #include "ppohdem/build_info.hpp"
 
+#ifdef PPOHDEM_WITH_OPENMP
+#include <omp.h>
+#endif
+
 namespace ppohdem {
 
 std::string provenance_line(int ranks, int threads) {
+  if (threads <= 0) {
+#ifdef PPOHDEM_WITH_OPENMP
+    threads = omp_get_max_threads();
+#else
+    threads = 1;
+#endif
+  }
   std::array<char, 256> host{};
   if (gethostname(host.data(), host.size() - 1) != 0) host[0] = '\0';
   std::array<char, 32> date{};

@@ -19,18 +19,33 @@
 /// Normal force on i: F_n n with F_n from the law (>= 0 for Hertz).
 /// Tangential spring (only with friction, by construction: two kernels, no runtime branch):
 ///   xi   accumulated tangential displacement (the contact history) [m]
-///   1. rotate xi onto the current tangent plane: xi <- |xi| (xi - (xi.n)n)/|xi - (xi.n)n|
+///   1. rotate xi onto the current tangent plane: xi~ = |xi| (xi - (xi.n)n)/|xi - (xi.n)n|
 ///      (keeps the stored energy when the contact plane turns; as LIGGGHTS)
-///   2. xi <- xi + ds_t
-///   3. F_t = -k_t(delta) xi; if |F_t| > mu F_n: F_t <- mu F_n F_t/|F_t| and xi <- -F_t/k_t
-///      (Coulomb slip; the spring energy lost is friction work)
-/// Energy book-keeping per contact and step (so that kinetic + rotational + gravitational +
-/// elastic + dissipated stays constant up to the integrator's O(dt^2) error):
-///   elastic     U_n(delta) + k_t |xi|^2 / 2                                   [J]
-///   dissipated  (F_n - F_n,elastic) delta_dot dt      (dashpot, and the Hertz clamp)  [J]
-///             + k_t (|xi_trial|^2 - |xi|^2) / 2       (Coulomb slip)
-///             - (k_t,new - k_t,old) |xi|^2 / 2        (Mindlin: the stiffness changes with
-///                                                      delta; the model adds this energy)
+///   2. trial: xi_tr = xi~ + ds_t,  k' = k_t(delta) (Mindlin: k_t changes with the overlap)
+///   3. F_t = -k' xi_tr; if |F_t| > mu max(F_n, 0): xi' = c xi_tr with c = mu F_n/(k'|xi_tr|)
+///      (Coulomb slip), else xi' = xi_tr.
+/// Energy book-keeping per contact and step. Velocity Verlet changes the kinetic energy by
+/// the TRAPEZOID rule of the contact forces along the step's displacement (docs/dem.md):
+///   dKE = (F(n) + F(n+1))/2 . (x(n+1) - x(n)) + (dt^2/8) m (|a(n+1)|^2 - |a(n)|^2)
+/// (the last term telescopes and vanishes when contacts end). The dissipated energy of the
+/// tangential spring is therefore DEFINED as the trapezoid work the particles do on it minus
+/// what it stores, W_t - dE_t with W_t = (k xi~ + k' xi') . ds_t / 2 and
+/// dE_t = k'|xi'|^2/2 - k|xi~|^2/2. Split by mechanism, this identity is (exactly):
+///   stiffness   D_k    = -(k' - k) xi~ . xi_tr / 2   (Mindlin: E_t = k_t|xi|^2/2 changes with
+///                       delta at fixed xi although no force does that work; the model adds
+///                       or removes this energy; can have either sign)          [J]
+///   slip        D_slip = k' (xi_tr - xi') . (xi~ + xi') / 2 >= 0   (Coulomb: the slipped
+///                       displacement times the mean spring force)              [J]
+/// (The rectangle forms k'(|xi_tr|^2 - |xi'|^2)/2 and (k' - k)|xi~|^2/2 differ from these by
+/// k'|ds_t|^2/2 and (k' - k) xi~.ds_t/2 per step: first order in dt in total, which is what
+/// made the balance drift by 6% in a slowly sliding pile.)
+/// In total:
+///   elastic     U_n(delta) + k' |xi'|^2 / 2                                      [J]
+///   dissipated  (F_n - F_n,elastic) delta_dot dt   (dashpot with the predicted v(n+1),
+///                                                   and the Hertz clamp)         [J]
+///             + D_k + D_slip
+/// When a contact ends (k' = 0) the engine adds D_k = k|xi~|^2/2 (+ k xi~.ds_t/2, which is
+/// O(dt^{5/2}) there because |k xi| <= mu F_n -> 0 and is left out): the stored energy.
 #include "ppohdem/dem/contact_law.hpp"
 #include "ppohdem/geometry/vector.hpp"
 
@@ -41,6 +56,10 @@ struct ContactKinematics {
   double overlap = 0.0;                  ///< delta [m]
   Vec3 relative_velocity = Vec3::Zero();  ///< v_rel at the evaluation time [m/s]
   Vec3 relative_displacement = Vec3::Zero();  ///< ds over the last step [m]
+  /// ds over the last step computed with the branch vectors of the PREVIOUS evaluation, the
+  /// lever arms through which the previous tangential force's torque acted during the step
+  /// (frictional contacts only; equals ds when the branch vectors did not change) [m]
+  Vec3 relative_displacement_previous_arms = Vec3::Zero();
   PairProperties pair;
 };
 
@@ -48,6 +67,8 @@ struct ContactKinematics {
 struct TangentialSpring {
   Vec3 displacement = Vec3::Zero();  ///< xi [m]
   double stiffness = 0.0;            ///< k_t at the last update [N/m]
+  Vec3 branch_i = Vec3::Zero();      ///< r_i at the last update (centre of i to contact) [m]
+  Vec3 branch_j = Vec3::Zero();      ///< r_j at the last update (zero for a boundary) [m]
   double stored_energy() const { return 0.5 * stiffness * displacement.squaredNorm(); }  ///< [J]
 };
 
@@ -78,31 +99,42 @@ ContactForce frictional_contact_force(const Law& law, const ContactKinematics& c
   const Vec3& n = c.normal;
   const double f_n = out.on_i.dot(n);
 
-  // 1. Rotate the history onto the current tangent plane, keeping its length.
+  // 1. Rotate the history onto the current tangent plane, keeping its length: xi~.
   Vec3& xi = spring.displacement;
+  const Vec3 xi_previous = xi;
   const double length = xi.norm();
   xi -= xi.dot(n) * n;
   const double projected = xi.norm();
   if (projected > 0.0) xi *= length / projected;
+  const Vec3 xi_rotated = xi;
+  const double k_old = spring.stiffness;  // k [N/m]
 
-  // Mindlin: k_t follows delta; the model adds (k_new - k_old)|xi|^2/2 to the stored energy.
+  // 2. Trial state: add the sliding displacement of this step; Mindlin k' = k_t(delta).
+  const Vec3 ds_t = c.relative_displacement - c.relative_displacement.dot(n) * n;
+  const Vec3 xi_trial = xi_rotated + ds_t;
   const double k_t = law.tangential_stiffness(c.overlap, c.pair);
-  out.dissipated -= 0.5 * (k_t - spring.stiffness) * xi.squaredNorm();
+  xi = xi_trial;
   spring.stiffness = k_t;
 
-  // 2. Accumulate the sliding displacement of this step.
-  xi += c.relative_displacement - c.relative_displacement.dot(n) * n;
-
-  // 3. Spring force and Coulomb cap.
+  // 3. Spring force and Coulomb cap |F_t| <= mu F_n (F_n < 0 is possible with the unclamped
+  // linear law near separation: then the cap is 0).
   Vec3 f_t = -k_t * xi;
-  const double cap = law.friction() * f_n;
+  const double cap = law.friction() * (f_n > 0.0 ? f_n : 0.0);
   const double f_t_norm = f_t.norm();
   if (f_t_norm > cap) {
-    const double before = spring.stored_energy();
-    f_t *= (f_t_norm > 0.0 ? cap / f_t_norm : 0.0);
-    xi = k_t > 0.0 ? Vec3(-f_t / k_t) : Vec3(Vec3::Zero());
-    out.dissipated += before - spring.stored_energy();
+    const double scale = cap / f_t_norm;  // c in [0, 1)
+    f_t *= scale;
+    xi *= scale;
   }
+  // Energy the trapezoid-rule work puts into the spring but it does not store [J]:
+  // D_k = -(k' - k) xi~.xi_tr / 2 and D_slip = k' (xi_tr - xi').(xi~ + xi') / 2.
+  out.dissipated += -0.5 * (k_t - k_old) * xi_rotated.dot(xi_trial);
+  out.dissipated += 0.5 * k_t * (xi_trial - xi).dot(xi_rotated + xi);
+  // D_frame: the previous force F_t(n) = -k xi(n) acted in the previous tangent plane and
+  // through the previous lever arms; the trapezoid work above used xi~ and the new arms.
+  out.dissipated += 0.5 * k_old *
+                    (xi_previous.dot(c.relative_displacement_previous_arms) -
+                     xi_rotated.dot(c.relative_displacement));
   out.on_i += f_t;
   out.elastic_energy += spring.stored_energy();
   return out;

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ppohdem/grid/scalar_field.hpp"
@@ -57,6 +58,15 @@ void write_distance_dat(const std::filesystem::path& dir, std::span<const double
 /// or from the directory holding that rank-0 file. InputError (file:line, expected, found) on a
 /// bad header, a missing rank file, a malformed record, indices out of the expected order, or
 /// too few / too many records.
+/// Before allocating the nodes' values the reader checks that the rank files together hold at
+/// least 7 bytes per announced record (the shortest record, `1 1 1 0`), so a header claiming
+/// 10^8 x 10^8 x 10^8 nodes is an InputError, not an allocation failure.
 DistanceDat read_distance_dat(const std::filesystem::path& dir_or_rank0_file);
+
+/// Same, from the files' bytes in memory (fuzzing entry point): `rank_files[r]` is rank r's
+/// file; rank 0's header must announce nprocs = rank_files.size() or less (missing ranks are
+/// reported as for files). Messages name `source_dir / distance_NNNN.dat`.
+DistanceDat read_distance_dat_bytes(std::span<const std::string_view> rank_files,
+                                    const std::filesystem::path& source_dir);
 
 }  // namespace ppohdem

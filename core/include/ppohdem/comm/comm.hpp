@@ -1,0 +1,73 @@
+#pragma once
+/// \file comm.hpp
+/// The communicator the optimized code talks to, and nothing else: a rank, a size, a barrier and
+/// the few collectives the SDF slab decomposition needs. MPI lives behind it in exactly one file
+/// (core/src/comm/mpi_comm.cpp, built only with PPOHDEM_ENABLE_MPI); the serial communicator is
+/// real behaviour for one rank (its gather copies), not a no-op (CoMD's parallel.c habit).
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace ppohdem {
+
+class Comm {
+ public:
+  virtual ~Comm() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  virtual void barrier() const = 0;
+  /// Every rank passes its `local` block; rank 0 receives the blocks concatenated in rank order
+  /// (other ranks get an empty vector). Blocks may differ in length.
+  virtual std::vector<double> gather_to_root(std::span<const double> local) const = 0;
+  /// The same for float blocks.
+  virtual std::vector<float> gather_to_root(std::span<const float> local) const = 0;
+  /// Maximum of `value` over all ranks, returned on every rank.
+  virtual double max_over_ranks(double value) const = 0;
+  /// Sum of `value` over all ranks, returned on every rank.
+  virtual double sum_over_ranks(double value) const = 0;
+  /// Rank 0's `value` on every rank.
+  virtual double broadcast_from_root(double value) const = 0;
+};
+
+/// One rank: gather returns the block itself, reductions return their argument.
+class SerialComm final : public Comm {
+ public:
+  int rank() const override { return 0; }
+  int size() const override { return 1; }
+  void barrier() const override {}
+  std::vector<double> gather_to_root(std::span<const double> local) const override {
+    return {local.begin(), local.end()};
+  }
+  std::vector<float> gather_to_root(std::span<const float> local) const override {
+    return {local.begin(), local.end()};
+  }
+  double max_over_ranks(double value) const override { return value; }
+  double sum_over_ranks(double value) const override { return value; }
+  double broadcast_from_root(double value) const override { return value; }
+};
+
+/// True if this build has the MPI communicator (PPOHDEM_ENABLE_MPI).
+bool mpi_available();
+
+/// RAII owner of the MPI environment. Constructing it calls MPI_Init_thread (FUNNELED: only the
+/// master thread calls MPI; OpenMP threads do not) unless MPI is already initialised; the
+/// destructor calls MPI_Finalize if this object initialised it. Without MPI it does nothing and
+/// world() is a SerialComm. Create one at the top of main(), before any other use of world().
+class CommEnvironment {
+ public:
+  CommEnvironment(int* argc, char*** argv);
+  ~CommEnvironment();
+  CommEnvironment(const CommEnvironment&) = delete;
+  CommEnvironment& operator=(const CommEnvironment&) = delete;
+
+  /// MPI_COMM_WORLD behind the Comm interface (a SerialComm without MPI or when the program was
+  /// not started by mpirun with more than one rank it still works: size() is then 1).
+  const Comm& world() const { return *world_; }
+
+ private:
+  bool finalize_ = false;
+  std::unique_ptr<Comm> world_;
+};
+
+}  // namespace ppohdem

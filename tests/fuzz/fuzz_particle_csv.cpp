@@ -1,0 +1,23 @@
+// libFuzzer target: particle CSV files (dem::read_particles_csv). The reader takes a path, so
+// each input is written to a file in a per-process tmpfs directory first.
+#include <cmath>
+#include <set>
+
+#include "fuzz_support.hpp"
+#include "ppohdem/dem/particle_csv.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace ppohdem;
+  const auto file = fuzz::scratch().write("particles.csv", fuzz::as_text(data, size));
+  fuzz::run_reader([&] {
+    const dem::Particles particles = dem::read_particles_csv(file);
+    // Promises of particle_csv.hpp for an accepted file: finite values, radius > 0, unique ids.
+    std::set<std::int64_t> ids;
+    for (const dem::Particle& p : particles) {
+      PPOHDEM_FUZZ_CHECK(p.position.allFinite() && p.velocity.allFinite() && p.angular_velocity.allFinite());
+      PPOHDEM_FUZZ_CHECK(std::isfinite(p.radius) && p.radius > 0.0);
+      PPOHDEM_FUZZ_CHECK(ids.insert(p.id).second);
+    }
+  });
+  return 0;
+}
