@@ -19,7 +19,12 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string quoted(const fs::path& p) {
+  std::string s = "'";
+  s += p.string();
+  s += "'";
+  return s;
+}
 
 /// The scene file `name` from fixtures/scenes copied into `dir` with its CSV, so the run
 /// writes into the scratch directory ([output] dir is relative to the scene file).

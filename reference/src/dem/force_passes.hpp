@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 #include <utility>
+#include <vector>
 
 #include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/contact_force.hpp"
@@ -22,6 +23,10 @@ using ppohdem::dem::harmonic_pair;
 using ppohdem::dem::Particle;
 using ppohdem::dem::TangentialSpring;
 
+/// A contact that ended (k_t' = 0) loses the energy left in its tangential spring:
+/// D_k = k |xi|^2 / 2 (contact_force.hpp) [J].
+inline double ended(const TangentialSpring& spring) { return spring.stored_energy(); }
+
 /// Frictionless contacts keep no history: the kernel calls normal_contact_force only.
 /// With friction, the spring of each contact lives in `history` between steps.
 template <class Law, bool kFriction>
@@ -33,7 +38,11 @@ class PairForces final : public ForcePass {
     Particles& p = c.particles;
     const auto pairs = touching_pairs(p);
     active_ = pairs.size();
-    std::map<std::pair<std::int64_t, std::int64_t>, TangentialSpring> next_history;
+    // Both `pairs` and `history_` are sorted by (id_i, id_j): the old spring of a contact is
+    // found by walking a cursor through the old history (a merge), and entries the cursor
+    // skips are contacts that ended.
+    History next_history;
+    auto old = history_.begin();
     for (const auto& [i, j] : pairs) {
       Particle& a = p[i];
       Particle& b = p[j];
@@ -53,16 +62,17 @@ class PairForces final : public ForcePass {
       k.pair.r_eff = harmonic_pair(a.radius, b.radius);    // R* = R_i R_j / (R_i + R_j)
       ContactForce f;
       if constexpr (kFriction) {
-        const auto key = std::pair(a.id, b.id);
-        TangentialSpring spring;
-        if (auto it = history_.find(key); it != history_.end()) spring = it->second;
+        const Key key(a.id, b.id);
+        for (; old != history_.end() && old->first < key; ++old) c.dissipated += ended(old->second);
+        TangentialSpring spring;  // a new contact starts with xi = 0, k_t = 0
+        if (old != history_.end() && old->first == key) spring = (old++)->second;
         k.relative_displacement_previous_arms =
             c.dt * ((a.velocity + a.angular_velocity.cross(spring.branch_i)) -
                     (b.velocity + b.angular_velocity.cross(spring.branch_j)));
         f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
         spring.branch_i = r_a;
         spring.branch_j = r_b;
-        next_history.emplace(key, spring);
+        next_history.emplace_back(key, spring);
       } else {
         f = ppohdem::dem::normal_contact_force(law_, k, c.dt);
       }
@@ -75,10 +85,7 @@ class PairForces final : public ForcePass {
       c.dissipated += f.dissipated;
     }
     if constexpr (kFriction) {
-      // Contacts that ended lose the energy left in their tangential spring.
-      for (const auto& [key, spring] : history_) {
-        if (!next_history.count(key)) c.dissipated += spring.stored_energy();
-      }
+      for (; old != history_.end(); ++old) c.dissipated += ended(old->second);
       history_ = std::move(next_history);
     }
   }
@@ -87,7 +94,9 @@ class PairForces final : public ForcePass {
  private:
   Law law_;
   std::size_t active_ = 0;
-  std::map<std::pair<std::int64_t, std::int64_t>, TangentialSpring> history_;  // seed: contact_list
+  using Key = std::pair<std::int64_t, std::int64_t>;  // (id_i, id_j), id_i < id_j
+  using History = std::vector<std::pair<Key, TangentialSpring>>;
+  History history_;  // sorted by key; the seed's contact_list
 };
 
 /// Particle-boundary contacts: the boundary is body j with infinite mass and radius, so
@@ -149,7 +158,7 @@ class BoundaryForces final : public ForcePass {
     }
     if constexpr (kFriction) {
       for (const auto& [key, spring] : history_) {
-        if (!next_history.count(key)) c.dissipated += spring.stored_energy();
+        if (!next_history.count(key)) c.dissipated += ended(spring);
       }
       history_ = std::move(next_history);
     }

@@ -31,7 +31,8 @@ struct Energies {
   double gravitational = 0.0;  ///< sum -m g . x (zero at the origin)
   double elastic = 0.0;        ///< stored in normal and tangential contact springs
   double dissipated = 0.0;     ///< cumulative: dashpots, friction slip, broken springs,
-                               ///< Mindlin stiffness change (contact_force.hpp)
+                               ///< Mindlin stiffness change, frame change; each booked
+                               ///< with Verlet's trapezoid rule (contact_force.hpp)
   double boundary_work = 0.0;  ///< cumulative work done on particles by moving boundaries
   double total() const { return kinetic + rotational + gravitational + elastic + dissipated - boundary_work; }
 };

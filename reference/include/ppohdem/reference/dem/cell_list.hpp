@@ -1,8 +1,15 @@
 #pragma once
 // Contact detection for the reference engine: a uniform cell list (Allen & Tildesley 1987,
-// sec. 5.3.2). Cells are cubes of side 2 R_max, so two touching spheres are always in the same
-// or in adjacent cells (27 neighbours, each pair looked at once). Occupied cells live in a hash
-// map, so particles far apart (or escaped) cost nothing.
+// sec. 5.3.2, "linked lists", here stored as a counting sort of the particles by cell).
+// Cells are cubes of side 2 R_max, so two touching spheres are in the same or in adjacent
+// cells; each particle looks at its own cell and the 26 neighbours and keeps pairs a < b.
+//
+// The grid is dense and covers the bulk of the particles: per axis from the 1st to the 99th
+// percentile of the centres (plus one cell), at most ~8 N cells in all. Particles outside it
+// (e.g. escaped ones falling away) are CLAMPED into the border cells. Clamping is correct:
+// cell indices of two centres closer than one cell differ by at most 1 per axis, and the
+// clamp (monotone, never increasing distances) keeps that true; outliers only crowd the
+// border cells. Cost O(N + pairs examined); no hashing.
 #include <cstddef>
 #include <utility>
 #include <vector>
