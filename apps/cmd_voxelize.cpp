@@ -25,6 +25,7 @@
 #include "ppohdem/mesh/placement.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/provenance.hpp"
+#include "ppohdem/reference/compat/ppohdem10_voxelizer.hpp"
 #include "ppohdem/reference/sdf/builders.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 
@@ -45,6 +46,7 @@ struct VoxelizeOptions {
   std::string precision = "double"; // fast method: double or float storage
   std::string out_vtk;
   int ranks = 1;
+  std::string compat;  // "" (correct default) or "ppohdem-1.0" (the original, number for number)
   bool quiet = false;
 };
 
@@ -177,6 +179,31 @@ fs::path resolve_legacy_base(const fs::path& input_file, const std::string& mesh
                        "' and in the current directory)");
 }
 
+// `--compat ppohdem-1.0`: the original program's algorithm as it really is (reference/compat/,
+// docs/compat.md), including its defects, with the original's placement; byte-identical
+// distance_NNNN.dat files for the same --ranks.
+void run_legacy_compat(const VoxelizeOptions& o, const VoxelizerInput& in, const fs::path& mesh_path,
+                       const fs::path& out_dir) {
+  MeshStats stats_in;
+  const TriangleMesh raw = read_mesh_checked(mesh_path, &stats_in);
+  Placement placement;
+  placement.size = in.object_size;
+  placement.position = in.object_position;
+  placement.mode = PlacementMode::kPpohdem10;
+  const TriangleMesh mesh = place_mesh(raw, placement);
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<double> values = reference::compat::ppohdem10_distance(mesh, in, o.ranks);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  write_distance_dat(out_dir, values, in.voxels, o.ranks);
+  write_stl(out_dir / "object_mesh.stl", mesh, StlEncoding::kAscii, /*use_file_normals=*/true);
+  std::printf("voxelize: compat ppohdem-1.0, %d x %d x %d nodes, %zu triangles, %s, %d rank file(s)\n",
+              in.voxels[0], in.voxels[1], in.voxels[2], mesh.size(), human_seconds(seconds).c_str(), o.ranks);
+  for (int rank = 0; rank < o.ranks; ++rank) {
+    std::printf("voxelize: wrote %s\n", distance_dat_path(out_dir, rank).string().c_str());
+  }
+  std::printf("voxelize: wrote %s\n", (out_dir / "object_mesh.stl").string().c_str());
+}
+
 void run_legacy(const VoxelizeOptions& o, const Comm& comm) {
   const fs::path input_file(o.legacy_input);
   const VoxelizerInput in = read_voxelizer_input(input_file);
@@ -185,6 +212,11 @@ void run_legacy(const VoxelizeOptions& o, const Comm& comm) {
   const fs::path out_dir = base / in.output_dir;
   check_writable_directory(out_dir);
   if (o.ranks < 1) throw InputError("--ranks must be >= 1");
+  if (!o.compat.empty()) {
+    if (o.compat != "ppohdem-1.0") throw InputError("--compat: the only mode is ppohdem-1.0, got '" + o.compat + "'");
+    if (comm.rank() == 0) run_legacy_compat(o, in, mesh_path, out_dir);
+    return;
+  }
 
   MeshStats stats_in;
   const TriangleMesh raw = read_mesh_checked(mesh_path, &stats_in);
@@ -274,6 +306,8 @@ void register_voxelize(CLI::App& app, const Comm& comm) {
   cmd->add_option("--out", o->out_vtk, "output legacy VTK file (modern form)");
   cmd->add_option("--vtk", o->out_vtk, "also write a VTK file (legacy form)");
   cmd->add_option("--ranks", o->ranks, "legacy form: split distance_NNNN.dat as N MPI ranks would");
+  cmd->add_option("--compat", o->compat,
+                  "ppohdem-1.0: reproduce the original program's output number for number (legacy form)");
   cmd->add_flag("--quiet", o->quiet, "no progress output");
   cmd->callback([o, &comm] {
     if (!o->legacy_input.empty()) {
@@ -282,6 +316,7 @@ void register_voxelize(CLI::App& app, const Comm& comm) {
       }
       run_legacy(*o, comm);
     } else {
+      if (!o->compat.empty()) throw InputError("--compat applies to the legacy form (input_constants_voxelizer.dat)");
       run_modern(*o, comm);
     }
   });

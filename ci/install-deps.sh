@@ -13,6 +13,7 @@ PACKAGES=(
   libbenchmark-dev                   # Google Benchmark
   libtomlplusplus-dev libcli11-dev   # scene files, command line
   python3-matplotlib python3-numpy   # plots in docs/ (system python: /usr/bin/python3)
+  liblzma-dev xz-utils               # the original program's outputs, stored as .xz fixtures
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -54,9 +54,9 @@ double ppohdem10_eikonal_update(double c, double xp, double xm, double yp, doubl
 
 RankSlab::RankSlab(int rank_, int nprocs_, int first_, int last_, const Index3& nodes, double fill)
     : rank(rank_), nprocs(nprocs_), first(first_), last(last_), ny(nodes[1]), nz(nodes[2]), nx(nodes[0]) {
-  planes_.assign(static_cast<std::size_t>(last - first + 3) * static_cast<std::size_t>(ny) *
-                     static_cast<std::size_t>(nz),
-                 fill);
+  stride_j_ = static_cast<std::size_t>(last - first + 3);
+  stride_k_ = stride_j_ * static_cast<std::size_t>(ny);
+  planes_.assign(stride_k_ * static_cast<std::size_t>(nz), fill);
   // The loop range of the sweeps: rank 0 starts at i = 2; otherwise the last rank stops at
   // gridX - 1. With one rank the first branch wins, so the sweeps run over i = 2..gridX and
   // i = gridX reads the never-written ghost plane gridX + 1 (the sentinel).
@@ -70,12 +70,6 @@ RankSlab::RankSlab(int rank_, int nprocs_, int first_, int last_, const Index3& 
     sweep_first = first;
     sweep_last = last;
   }
-}
-
-std::size_t RankSlab::offset(int i, int j, int k) const {
-  return static_cast<std::size_t>(i - (first - 1)) +
-         static_cast<std::size_t>(last - first + 3) *
-             (static_cast<std::size_t>(j - 1) + static_cast<std::size_t>(ny) * static_cast<std::size_t>(k - 1));
 }
 
 void exchange_ghost_planes(std::vector<RankSlab>& ranks) {

@@ -43,10 +43,16 @@ struct RankSlab {
 
   double& at(int i, int j, int k) { return planes_[offset(i, j, k)]; }
   double at(int i, int j, int k) const { return planes_[offset(i, j, k)]; }
-  std::size_t offset(int i, int j, int k) const;
+  /// Storage index of global node (i, j, k): planes first-1..last+1, x fastest.
+  std::size_t offset(int i, int j, int k) const {
+    return static_cast<std::size_t>(i - (first - 1)) + stride_j_ * static_cast<std::size_t>(j - 1) +
+           stride_k_ * static_cast<std::size_t>(k - 1);
+  }
   std::size_t planes_size() const { return planes_.size(); }
 
  private:
+  std::size_t stride_j_ = 0;  ///< planes per row: last - first + 3
+  std::size_t stride_k_ = 0;  ///< stride_j_ * gridY
   std::vector<double> planes_;
 };
 
