@@ -24,9 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::run_reader([&] {
     const DistanceDat dat = read_distance_dat_bytes(ranks, "fuzz");
     PPOHDEM_FUZZ_CHECK(dat.nprocs >= 1 && static_cast<std::size_t>(dat.nprocs) <= ranks.size());
-    PPOHDEM_FUZZ_CHECK(dat.values.size() == static_cast<std::size_t>(dat.nodes[0]) *
-                                                static_cast<std::size_t>(dat.nodes[1]) *
-                                                static_cast<std::size_t>(dat.nodes[2]));
+    const auto count = checked_node_count(dat.nodes);
+    PPOHDEM_FUZZ_CHECK(count.has_value() && dat.values.size() == *count);
   });
   return 0;
 }

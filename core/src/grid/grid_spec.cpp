@@ -1,6 +1,7 @@
 #include "ppohdem/grid/grid_spec.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -87,6 +88,17 @@ GridSpec GridSpec::ppohdem_legacy(const Vec3& length, const Index3& nodes) {
 
 bool operator==(const GridSpec& a, const GridSpec& b) {
   return a.origin == b.origin && a.spacing == b.spacing && a.nodes == b.nodes;
+}
+
+std::optional<std::size_t> checked_node_count(const Index3& nodes) {
+  std::size_t count = 1;
+  for (int n : nodes) {
+    if (n < 1) return std::nullopt;
+    const auto factor = static_cast<std::size_t>(n);
+    if (count > std::numeric_limits<std::size_t>::max() / factor) return std::nullopt;
+    count *= factor;
+  }
+  return count;
 }
 
 }  // namespace ppohdem

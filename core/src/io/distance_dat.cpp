@@ -251,17 +251,6 @@ class MemoryRankFiles final : public RankFiles {
 /// lack one). Used to reject impossible headers before allocating their node values.
 constexpr std::uintmax_t kShortestRecordBytes = 7;
 
-/// nx * ny * nz, or nullopt if the product does not fit in size_t.
-std::optional<std::size_t> checked_node_count(const Index3& nodes) {
-  std::size_t count = 1;
-  for (int n : nodes) {
-    const auto factor = static_cast<std::size_t>(n);
-    if (count > std::numeric_limits<std::size_t>::max() / factor) return std::nullopt;
-    count *= factor;
-  }
-  return count;
-}
-
 [[noreturn]] void throw_missing_file(const RankFiles& files, int rank, int nprocs) {
   throw InputError(files.path(rank).string(), 0,
                    rank == 0 ? "expected the rank-0 distance file, found no such file"

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -253,6 +254,10 @@ ScalarField read_vtk_structured_points_bytes(std::string_view bytes, const std::
       expect_count(cur, words, 1, "POINT_DATA n");
       if (!have_dims) cur.fail("expected DIMENSIONS before POINT_DATA");
       point_data = parse_number<std::size_t>(cur, words[1], "a point count");
+      if (!checked_node_count(grid.nodes)) {  // the product would wrap around in size_t
+        cur.fail("DIMENSIONS " + std::to_string(grid.nodes[0]) + " x " + std::to_string(grid.nodes[1]) + " x " +
+                 std::to_string(grid.nodes[2]) + " is more nodes than this machine can address");
+      }
       if (point_data != grid.node_count()) {
         cur.fail("POINT_DATA " + std::to_string(point_data) + " does not match DIMENSIONS " +
                  std::to_string(grid.nodes[0]) + " x " + std::to_string(grid.nodes[1]) + " x " +
@@ -279,18 +284,27 @@ ScalarField read_vtk_structured_points_bytes(std::string_view bytes, const std::
   const auto maybe_table = cur.peek_words();
   if (!maybe_table.empty() && upper(maybe_table[0]) == "LOOKUP_TABLE") cur.next_words("LOOKUP_TABLE");
 
-  ScalarField field(grid);
+  // Check that the data can be there before allocating n values, so a corrupt header cannot
+  // ask for terabytes: binary values take `width` bytes each, ASCII ones at least one (a digit).
   const std::size_t n = point_data;
   const std::size_t data_line = cur.line() + 1;
-  if (binary) {
-    const int width = type == "DOUBLE" ? 8 : 4;
-    const std::size_t need = n * static_cast<std::size_t>(width);
-    const std::size_t have = bytes.size() - cur.offset();
-    if (have < need) {
+  const std::size_t have = bytes.size() - cur.offset();
+  const std::size_t width = !binary ? 1 : type == "DOUBLE" ? 8 : 4;
+  if (n > have / width) {
+    if (!binary) {
       throw InputError(source_name, data_line,
-                       "expected " + std::to_string(n) + " binary " + std::string(scalars[2]) + " values (" +
-                           std::to_string(need) + " bytes), found only " + std::to_string(have) + " bytes");
+                       "expected " + std::to_string(n) + " ASCII values (at least one byte each), found only " +
+                           std::to_string(have) + " bytes");
     }
+    const std::string need = n <= std::numeric_limits<std::size_t>::max() / width
+                                 ? std::to_string(n * width)
+                                 : std::to_string(n) + " x " + std::to_string(width);
+    throw InputError(source_name, data_line,
+                     "expected " + std::to_string(n) + " binary " + std::string(scalars[2]) + " values (" + need +
+                         " bytes), found only " + std::to_string(have) + " bytes");
+  }
+  ScalarField field(grid);
+  if (binary) {
     const char* p = bytes.data() + cur.offset();
     for (std::size_t i = 0; i < n; ++i, p += width) {
       field.values[i] = width == 8 ? std::bit_cast<double>(read_big_endian(p, 8))

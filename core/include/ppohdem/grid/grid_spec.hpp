@@ -4,6 +4,7 @@
 /// (world units). Values are stored with x fastest: index = i + nx (j + ny k), the order of
 /// VTK STRUCTURED_POINTS and of the original program's distance files.
 #include <cstddef>
+#include <optional>
 #include <string>
 
 #include "ppohdem/geometry/vector.hpp"
@@ -44,5 +45,9 @@ struct GridSpec {
 };
 
 bool operator==(const GridSpec& a, const GridSpec& b);
+
+/// nodes[0] * nodes[1] * nodes[2], or nullopt if a count is < 1 or the product does not fit in
+/// size_t (readers check this before trusting GridSpec::node_count() with counts from a file).
+std::optional<std::size_t> checked_node_count(const Index3& nodes);
 
 }  // namespace ppohdem
