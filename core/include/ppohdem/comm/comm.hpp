@@ -66,7 +66,7 @@ class CommEnvironment {
   const Comm& world() const { return *world_; }
 
  private:
-  bool finalize_ = false;
+  [[maybe_unused]] bool finalize_ = false;  // used by the MPI build only
   std::unique_ptr<Comm> world_;
 };
 
