@@ -1,6 +1,8 @@
 // The original program's distance_NNNN.dat files: E20.8 formatting against gfortran's own
 // output, reading the original's 76^3 cube file, byte-identical rewriting of it, and round
 // trips / malformed files for several rank counts.
+#include <unistd.h>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -16,6 +18,7 @@
 #include "ppohdem/io/distance_dat.hpp"
 #include "ppohdem/io/legacy_inputs.hpp"
 #include "test_paths.hpp"
+#include "xz_file.hpp"
 
 namespace ppohdem {
 namespace {
@@ -23,10 +26,19 @@ namespace {
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
+// The original program's 76^3 cube output (fixtures/ppohdem-1.0/util-cube/np1, stored as .xz),
+// decompressed once per test process into a directory of its own (ctest runs tests in parallel).
 std::filesystem::path original_cube_file() {
-  // CI keeps a copy of shared/ beside the clone; locally it is /work/shared.
-  return std::filesystem::path(PPOHDEM_SOURCE_DIR) / ".." / "shared" / "ppohdem-original" / "util-cube" / "np1" /
-         "distance_0000.dat";
+  static const std::filesystem::path file = [] {
+    const auto dir = std::filesystem::path(PPOHDEM_BINARY_DIR) / "test-scratch" /
+                     ("original-cube-np1-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const auto path = dir / "distance_0000.dat";
+    std::ofstream(path, std::ios::binary)
+        << test::read_xz_file(test::fixture("ppohdem-1.0/util-cube/np1/distance_0000.dat.xz"));
+    return path;
+  }();
+  return file;
 }
 
 // ---- E20.8 ----------------------------------------------------------------------------------
@@ -71,7 +83,7 @@ TEST(FortranE20_8, MatchesGfortranOutputForTrickyValues) {
 TEST(FortranE20_8, ReformatsEveryValueOfTheOriginalCubeFile) {
   // The printed 8-digit decimal, read back as the nearest double, must print identically.
   const auto path = original_cube_file();
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "original data not found at " << path;
+  ASSERT_TRUE(std::filesystem::exists(path)) << "original data not found at " << path;
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);  // header
@@ -105,7 +117,7 @@ TEST(DistanceDatSlab, FirstRanksGetTheRemainderPlanes) {
 
 TEST(DistanceDat, ReadsTheOriginalCubeFile) {
   const auto path = original_cube_file();
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "original data not found at " << path;
+  ASSERT_TRUE(std::filesystem::exists(path)) << "original data not found at " << path;
   const DistanceDat dat = read_distance_dat(path);
   EXPECT_EQ(dat.nodes, (Index3{76, 76, 76}));
   EXPECT_EQ(dat.nprocs, 1);
@@ -129,7 +141,7 @@ TEST(DistanceDat, RewritingTheOriginalCubeFileIsByteIdentical) {
   // The bytes being compared were written by the Fortran program: an independent check of
   // the whole layout (header, I8 columns, E20.8, record order, line ends).
   const auto path = original_cube_file();
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "original data not found at " << path;
+  ASSERT_TRUE(std::filesystem::exists(path)) << "original data not found at " << path;
   const DistanceDat dat = read_distance_dat(path.parent_path());  // directory form
   const auto dir = test::scratch_dir();
   write_distance_dat(dir, dat.values, dat.nodes, 1);
