@@ -33,6 +33,10 @@ PreparedTriangle prepare_triangle(const Triangle& tri, std::uint32_t original_in
   t.ab = t.b - t.a;
   t.ac = t.c - t.a;
   t.original_index = original_index;
+  for (int axis = 0; axis < 3; ++axis) {
+    t.lo[axis] = std::min({t.a[axis], t.b[axis], t.c[axis]});
+    t.hi[axis] = std::max({t.a[axis], t.b[axis], t.c[axis]});
+  }
   // Same thresholds as the reference (reference/src/sdf/closest_point_triangle.cpp):
   // degenerate if sin(smallest angle) <~ 64 eps, thin if sin^2 < 1e-8.
   const double ab2 = t.ab.squaredNorm();
@@ -154,11 +158,11 @@ std::uint32_t TriangleTree::build(std::vector<std::uint32_t>& order, const std::
   return index;
 }
 
-double TriangleTree::box_squared_distance(const Node& n, const Vec3& p) {
+double TriangleTree::box_squared_distance(const double lo[3], const double hi[3], const Vec3& p) {
   double d2 = 0.0;
   for (int a = 0; a < 3; ++a) {
-    const double below = n.lo[a] - p[a];
-    const double above = p[a] - n.hi[a];
+    const double below = lo[a] - p[a];
+    const double above = p[a] - hi[a];
     const double d = std::max({below, above, 0.0});
     d2 += d * d;
   }
@@ -183,38 +187,44 @@ TriangleTree::Nearest TriangleTree::nearest(const Vec3& p, std::int64_t hint) co
     const auto t = static_cast<std::uint32_t>(hint);
     improve(squared_distance(p, triangles_[t]), t);
   }
-  std::uint32_t stack[128];
+  struct Pending {
+    std::uint32_t node;
+    double box_squared_distance;  // kept so a popped box is not measured twice
+  };
+  Pending stack[128];
   int top = 0;
   std::uint32_t current = 0;
-  if (box_squared_distance(nodes_[0], p) > prune_bound) return best;
+  if (box_squared_distance(nodes_[0].lo, nodes_[0].hi, p) > prune_bound) return best;
   for (;;) {
     const Node& node = nodes_[current];
     if (node.count > 0) {
       for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
-        improve(squared_distance(p, triangles_[s]), s);
+        const PreparedTriangle& t = triangles_[s];
+        if (box_squared_distance(t.lo, t.hi, p) > prune_bound) continue;  // cannot beat the bound
+        improve(squared_distance(p, t), s);
       }
     } else {
       const std::uint32_t left = current + 1;
       const std::uint32_t right = node.first;
-      const double dl = box_squared_distance(nodes_[left], p);
-      const double dr = box_squared_distance(nodes_[right], p);
+      const double dl = box_squared_distance(nodes_[left].lo, nodes_[left].hi, p);
+      const double dr = box_squared_distance(nodes_[right].lo, nodes_[right].hi, p);
       const bool left_first = dl <= dr;
       const std::uint32_t near = left_first ? left : right;
       const std::uint32_t far = left_first ? right : left;
       const double dnear = left_first ? dl : dr;
       const double dfar = left_first ? dr : dl;
       if (dnear <= prune_bound) {
-        if (dfar <= prune_bound) stack[top++] = far;
+        if (dfar <= prune_bound) stack[top++] = {far, dfar};
         current = near;
         continue;
       }
     }
-    // Pop the next box still worth visiting.
+    // Pop the next box still worth visiting (the bound may have shrunk since it was pushed).
     bool found = false;
     while (top > 0) {
-      const std::uint32_t candidate = stack[--top];
-      if (box_squared_distance(nodes_[candidate], p) <= prune_bound) {
-        current = candidate;
+      const Pending candidate = stack[--top];
+      if (candidate.box_squared_distance <= prune_bound) {
+        current = candidate.node;
         found = true;
         break;
       }

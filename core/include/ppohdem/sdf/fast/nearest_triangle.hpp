@@ -9,7 +9,10 @@
 /// is also compared with its edges), so both builders agree to rounding.
 ///
 /// Query: best-first descent, nearer child first, pruning a box when its distance exceeds the
-/// best distance so far plus a slack of 1e-12 times the coordinate scale. The slack makes the
+/// best distance so far plus a slack of 1e-12 times the coordinate scale; in a leaf, a triangle
+/// whose own bounding box is beyond that bound is skipped before the exact distance, and the
+/// stack keeps each box's distance so it is not recomputed when popped (measured 2026-11-30:
+/// about 10 % less CPU time for the whole dragon run at 80^3, 1 thread, 3 runs each). The slack makes the
 /// pruning conservative with respect to the rounding of the triangle distance, so the returned
 /// squared distance is the minimum of the computed per-triangle values over ALL triangles,
 /// whatever the starting guess: the result does not depend on the traversal order, on the hint,
@@ -28,6 +31,7 @@ namespace ppohdem::fast {
 struct PreparedTriangle {
   Vec3 a, b, c;
   Vec3 ab, ac;
+  double lo[3], hi[3];               ///< the triangle's own bounding box (a cheap lower bound)
   std::uint32_t original_index = 0;  ///< index in the input mesh
   std::uint8_t kind = 0;             ///< 0 regular, 1 thin (also test edges), 2 degenerate (edges only)
 };
@@ -64,7 +68,7 @@ class TriangleTree {
   };
   std::uint32_t build(std::vector<std::uint32_t>& order, const std::vector<Vec3>& centroid,
                       const std::vector<Triangle>& input, std::uint32_t begin, std::uint32_t end);
-  static double box_squared_distance(const Node& n, const Vec3& p);
+  static double box_squared_distance(const double lo[3], const double hi[3], const Vec3& p);
 
   std::vector<Node> nodes_;
   std::vector<PreparedTriangle> triangles_;
