@@ -3,9 +3,11 @@
 //   ppohdem simulate SCENE.toml [--engine reference] [--force] [--quiet]
 //       Reads the TOML scene (ppohdem/dem/scene.hpp), runs it with the chosen engine and writes
 //       final.csv, energy.csv and frames into the scene's [output] dir.
-// Dispatch on the input file: a TOML scene today; the legacy ppohDEM input_params_update.dat
-// (recognised by its content, not its name) will be a second branch in `run_input`.
+// Dispatch on the input file: a TOML scene; a legacy ppohDEM input_params_update.dat
+// (recognised by its content, first label `Lx_Ly_Lz:`, or forced with --legacy) is refused
+// with a clear error until the legacy driver exists (issue 6).
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
@@ -26,6 +28,7 @@ struct SimulateOptions {
   std::string engine = "reference";
   bool force = false;
   bool quiet = false;
+  bool legacy = false;
 };
 
 const std::map<std::string, dem::EngineFactory>& engines() {
@@ -65,12 +68,32 @@ void run_toml_scene(const SimulateOptions& options) {
   const dem::ContactCounts c = engine->contact_counts();
   std::printf("contacts: %zu particle-particle, %zu particle-wall; escaped particles: %zu\n",
               c.particle_pairs, c.particle_boundary, s.escaped);
+  for (const dem::SceneObject& o : scene.objects) {
+    std::printf("%s: %zu samples outside its grid\n", o.object->describe().c_str(), o.object->outside_grid_count());
+  }
   std::printf("wrote %s (final.csv, energy.csv, %zu frames)\n", scene.output.dir.string().c_str(),
               s.frames);
 }
 
+// A legacy ppohDEM input_params_update.dat starts (after blank lines) with the label
+// `Lx_Ly_Lz:` (users' guide List 2.2); a TOML scene cannot (it would be a syntax error).
+bool looks_like_legacy_input(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    return line.compare(first, 9, "Lx_Ly_Lz:") == 0;
+  }
+  return false;
+}
+
 void run_input(const SimulateOptions& options) {
-  // Future: if the file's content is a legacy input_params_update.dat, run the legacy driver.
+  if (options.legacy || looks_like_legacy_input(options.input)) {
+    throw InputError(options.input, 0,
+                     "legacy input (input_params_update.dat) is not supported yet; write a TOML "
+                     "scene with [[object]] blocks instead (docs/objects.md)");
+  }
   run_toml_scene(options);
 }
 
@@ -83,6 +106,7 @@ void register_simulate(CLI::App& app) {
   cmd->add_option("--engine", options->engine, "engine: reference")->capture_default_str();
   cmd->add_flag("--force", options->force, "run even if dt is above the stability limit");
   cmd->add_flag("--quiet", options->quiet, "no progress lines on stderr");
+  cmd->add_flag("--legacy", options->legacy, "read the input as a legacy input_params_update.dat");
   cmd->callback([options] { run_input(*options); });
 }
 

@@ -99,4 +99,33 @@ void EnergyLog::flush() const {
   writer.commit();
 }
 
+ObjectLog::ObjectLog(std::filesystem::path file, std::string header)
+    : file_(std::move(file)), header_(std::move(header)) {}
+
+void ObjectLog::add(long step, double time, std::size_t object_index, const DistanceFieldObject& object,
+                    const BoundaryLoad& load) {
+  const RigidTransform pose = object.pose_at(time);
+  const Vec3 c = object.centroid_at(time);
+  const Vec3 torque = load.torque_about(c);  // about the current centroid [N m]
+  char buf[640];
+  std::snprintf(buf, sizeof buf,
+                "%ld,%.17g,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                "%.17g,%.17g,%.17g,%.17g,%zu",
+                step, time, object_index, c.x(), c.y(), c.z(), pose.rotation.w(), pose.rotation.x(),
+                pose.rotation.y(), pose.rotation.z(), pose.translation.x(), pose.translation.y(),
+                pose.translation.z(), load.force.x(), load.force.y(), load.force.z(), torque.x(),
+                torque.y(), torque.z(), object.outside_grid_count());
+  rows_.emplace_back(buf);
+}
+
+void ObjectLog::flush() const {
+  AtomicFileWriter writer(file_);
+  std::ostream& out = writer.stream();
+  out << "# " << header_ << '\n';
+  out << "step,time,object,centroid_x,centroid_y,centroid_z,qw,qx,qy,qz,translation_x,translation_y,"
+         "translation_z,force_x,force_y,force_z,torque_x,torque_y,torque_z,outside_grid\n";
+  for (const std::string& row : rows_) out << row << '\n';
+  writer.commit();
+}
+
 }  // namespace ppohdem::dem

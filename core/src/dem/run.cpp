@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 #include "ppohdem/dem/output_writers.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
@@ -24,6 +25,30 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   const long energy_every = out.every > 0 ? out.every : std::max(1L, scene.steps / 100);
   RunSummary summary;
   summary.initial = engine.energies();
+  // Objects: poses and loads with every energy row; a warning the first time an object is
+  // sampled outside its grid (the particle is then treated as far from it).
+  ObjectLog object_log(out.dir / "objects.csv", header);
+  std::vector<bool> warned_outside(scene.objects.size(), false);
+  auto log_objects = [&](long step) {
+    if (scene.objects.empty()) return;
+    const std::vector<BoundaryLoad> loads = engine.boundary_loads();
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+      const SceneObject& so = scene.objects[o];
+      const BoundaryLoad load = so.boundary_index < loads.size() ? loads[so.boundary_index] : BoundaryLoad{};
+      object_log.add(step, engine.time(), o, *so.object, load);
+    }
+  };
+  auto warn_outside = [&] {
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+      const DistanceFieldObject& object = *scene.objects[o].object;
+      if (!warned_outside[o] && object.outside_grid_count() > 0) {
+        warned_outside[o] = true;
+        std::fprintf(stderr, "warning: a particle was outside the distance grid of %s at t = %g s "
+                     "(treated as far from the object; counted in objects.csv)\n",
+                     object.describe().c_str(), engine.time());
+      }
+    }
+  };
 
   auto write_frame = [&](long step) {
     const fs::path stem = out.dir / frame_stem(step);
@@ -38,14 +63,21 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   auto last_report = start;
   long last_percent = 0;
   energy.add(engine.step_count(), engine.time(), summary.initial);
+  log_objects(engine.step_count());
+  warn_outside();
   if (out.every > 0) write_frame(engine.step_count());
   for (long s = 1; s <= scene.steps; ++s) {
     engine.step();
     const long step = engine.step_count();
-    if (s % energy_every == 0 || s == scene.steps) energy.add(step, engine.time(), engine.energies());
+    warn_outside();
+    if (s % energy_every == 0 || s == scene.steps) {
+      energy.add(step, engine.time(), engine.energies());
+      log_objects(step);
+    }
     if (out.every > 0 && s % out.every == 0) {
       write_frame(step);
       energy.flush();
+      if (!scene.objects.empty()) object_log.flush();
     }
     if (out.progress && scene.steps >= 1000) {
       const long percent = 100 * s / scene.steps;
@@ -67,6 +99,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   log << "simulate: " << scene.steps << " steps of " << engine.particles().size()
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
   energy.flush();
+  if (!scene.objects.empty()) object_log.flush();
   write_particles_csv(out.dir / "final.csv", engine.particles(), header);
   return summary;
 }

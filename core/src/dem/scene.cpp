@@ -5,11 +5,16 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <algorithm>
 #include <initializer_list>
+#include <limits>
 #include <optional>
 #include <string_view>
 
 #include "ppohdem/dem/particle_csv.hpp"
+#include "ppohdem/io/vtk_structured_points.hpp"
+#include "ppohdem/mesh/stl_io.hpp"
+#include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 #include "ppohdem/dem/particle_generator.hpp"
 #include "ppohdem/error.hpp"
 
@@ -29,7 +34,7 @@ class SceneParser {
     } catch (const toml::parse_error& e) {
       throw InputError(name_, e.source().begin.line, std::string(e.description()));
     }
-    check_keys(root, "", {"simulation", "material", "contact", "particles", "wall", "output"});
+    check_keys(root, "", {"simulation", "material", "contact", "particles", "wall", "object", "output"});
     Scene scene;
     SimulationSetup& s = scene.setup;
     s.source = name_;
@@ -95,6 +100,17 @@ class SceneParser {
         const Vec3 velocity = optional_vec3(*t, "wall", "velocity").value_or(Vec3::Zero());
         if (!(normal.norm() > 0.0)) fail(t->get("normal"), "[[wall]] normal must not be zero");
         s.boundaries.push_back(std::make_shared<PlaneWall>(point, normal, velocity));
+      }
+    }
+
+    if (const toml::node* objects = root.get("object")) {
+      const toml::array* list = objects->as_array();
+      if (!list) fail(objects, "[[object]] must be an array of tables");
+      for (const toml::node& o : *list) {
+        const toml::table* t = o.as_table();
+        if (!t) fail(&o, "[[object]] entries must be tables");
+        scene.objects.push_back({read_object(*t, s, scene.objects.size()), s.boundaries.size()});
+        s.boundaries.push_back(scene.objects.back().object);
       }
     }
 
@@ -246,6 +262,71 @@ class SceneParser {
     spec.jitter = optional_number(t, "particles", "jitter").value_or(0.0);
     if (spec.jitter < 0.0 || spec.jitter > 1.0) fail(t.get("jitter"), "[particles] jitter must be in [0, 1] (fraction of the radius)");
     s.particles = generate_particles(spec, name_);
+  }
+
+  std::optional<Index3> optional_index3(const toml::table& t, const char* table, const char* key) const {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    const toml::array* a = n->as_array();
+    const std::string what = std::string("[") + table + "] " + key + ": expected an array of 3 integers >= 1";
+    if (!a || a->size() != 3) fail(n, what);
+    Index3 v;
+    for (std::size_t i = 0; i < 3; ++i) {
+      const toml::node& item = *a->get(i);
+      if (!item.is_integer()) fail(&item, what);
+      const std::int64_t c = item.value<std::int64_t>().value();
+      if (c < 1 || c > 100000) fail(&item, what + " (and <= 100000)");
+      v[i] = static_cast<int>(c);
+    }
+    return v;
+  }
+
+  // One [[object]] block: the distance field (file or voxelized mesh) and the motion.
+  std::shared_ptr<const DistanceFieldObject> read_object(const toml::table& t, const SimulationSetup& s,
+                                                         std::size_t index) const {
+    check_keys(t, "object", {"name", "distance", "mesh", "cells", "margin", "velocity", "axis", "omega",
+                             "centroid", "start", "stop"});
+    const std::string name = t.contains("name") ? require_string(t, "object", "name")
+                                                : "object " + std::to_string(index + 1);
+    const bool has_distance = t.contains("distance");
+    const bool has_mesh = t.contains("mesh");
+    if (has_distance == has_mesh) fail(&t, "[[object]] needs exactly one of distance = \"phi.vtk\" or mesh = \"m.stl\"");
+    ScalarField field;
+    if (has_distance) {
+      for (const char* key : {"cells", "margin"}) {
+        if (t.contains(key)) fail(t.get(key), std::string("[object] ") + key + " applies to mesh =, not to distance =");
+      }
+      field = read_vtk_structured_points(relative_to_scene(require_string(t, "object", "distance")));
+    } else {
+      const auto cells = optional_index3(t, "object", "cells");
+      if (!cells) fail(&t, "[object] mesh = needs cells = [nx, ny, nz]");
+      double r_max = 0.0;
+      for (const Particle& p : s.particles) r_max = std::max(r_max, p.radius);
+      const double margin = optional_number(t, "object", "margin").value_or(2.0 * r_max);
+      if (!(margin >= 0.0)) fail(t.get("margin"), "[object] margin must be >= 0 m");
+      const TriangleMesh mesh = read_stl(relative_to_scene(require_string(t, "object", "mesh")));
+      const BoundingBox box = bounding_box(mesh);
+      if (box.empty()) fail(t.get("mesh"), "[object] mesh has no triangles");
+      const Vec3 pad = Vec3::Constant(margin);
+      const Index3 nodes = {(*cells)[0] + 1, (*cells)[1] + 1, (*cells)[2] + 1};
+      const GridSpec grid = GridSpec::spanning(box.min - pad, box.max + pad, nodes);
+      field = FastSdfBuilder().build(mesh, grid);  // exact distance (fast_sdf_builder.hpp)
+    }
+    RigidMotion motion;
+    motion.velocity = optional_vec3(t, "object", "velocity").value_or(Vec3::Zero());
+    motion.centroid = optional_vec3(t, "object", "centroid")
+                          .value_or(0.5 * (field.grid.origin + field.grid.upper_corner()));
+    const double omega = optional_number(t, "object", "omega").value_or(0.0);
+    const auto axis = optional_vec3(t, "object", "axis");
+    if (omega != 0.0) {
+      if (!axis) fail(t.get("omega"), "[object] omega needs axis = [ax, ay, az]");
+      if (!(axis->norm() > 0.0)) fail(t.get("axis"), "[object] axis must not be zero");
+      motion.angular_velocity = axis->normalized() * omega;  // [rad/s]
+    }
+    const double start = optional_number(t, "object", "start").value_or(0.0);
+    const double stop = optional_number(t, "object", "stop").value_or(std::numeric_limits<double>::infinity());
+    if (stop < start) fail(t.get("stop"), "[object] stop must be >= start");
+    return std::make_shared<const DistanceFieldObject>(std::move(field), motion, name_ + ": " + name, start, stop);
   }
 
   fs::path file_;

@@ -110,6 +110,7 @@ class BoundaryForces final : public ForcePass {
   void add_forces(ForceContext& c) override {
     Particles& p = c.particles;
     active_ = 0;
+    loads_.assign(boundaries_.size(), ppohdem::dem::BoundaryLoad{});
     std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> next_history;
     for (std::size_t i = 0; i < p.size(); ++i) {
       Particle& a = p[i];
@@ -151,6 +152,9 @@ class BoundaryForces final : public ForcePass {
         }
         a.force += f.on_i;
         a.torque += r_a.cross(f.on_i);
+        // Reaction on the boundary (Newton's third law), at the contact point.
+        loads_[w].force -= f.on_i;
+        loads_[w].moment_about_origin += contact->point.cross(-f.on_i);
         c.elastic += f.elastic_energy;
         c.dissipated += f.dissipated;
         c.boundary_work += f.on_i.dot(contact->surface_velocity) * c.dt;  // W = F . v_wall dt
@@ -165,10 +169,12 @@ class BoundaryForces final : public ForcePass {
   }
   std::size_t active_contacts() const override { return active_; }
   std::size_t escaped() const override { return escaped_.size(); }
+  std::vector<ppohdem::dem::BoundaryLoad> loads() const override { return loads_; }
 
  private:
   Law law_;
   ppohdem::dem::BoundaryList boundaries_;
+  std::vector<ppohdem::dem::BoundaryLoad> loads_;  ///< per boundary, last evaluation
   std::size_t active_ = 0;
   std::set<std::int64_t> escaped_;
   std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> history_;  // seed: contact_list_wall

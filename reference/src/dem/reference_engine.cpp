@@ -111,4 +111,8 @@ std::size_t ReferenceEngine::escaped_count() const {
   return boundary_pass_ ? boundary_pass_->escaped() : 0;
 }
 
+std::vector<ppohdem::dem::BoundaryLoad> ReferenceEngine::boundary_loads() const {
+  return boundary_pass_ ? boundary_pass_->loads() : std::vector<ppohdem::dem::BoundaryLoad>{};
+}
+
 }  // namespace ppohdem::reference::dem

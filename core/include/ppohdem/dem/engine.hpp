@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ppohdem/dem/particle.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
@@ -35,6 +36,15 @@ struct Energies {
                                ///< with Verlet's trapezoid rule (contact_force.hpp)
   double boundary_work = 0.0;  ///< cumulative work done on particles by moving boundaries
   double total() const { return kinetic + rotational + gravitational + elastic + dissipated - boundary_work; }
+};
+
+/// What the particles do to one boundary in the last force evaluation (the reaction: minus
+/// the contact forces on the particles, applied at the contact points).
+struct BoundaryLoad {
+  Vec3 force = Vec3::Zero();                ///< F = -sum f_i  [N]
+  Vec3 moment_about_origin = Vec3::Zero();  ///< M_0 = sum p_c x (-f_i)  [N m]
+  /// Torque about point c: M_c = M_0 - c x F  [N m].
+  Vec3 torque_about(const Vec3& c) const { return moment_about_origin - c.cross(force); }
 };
 
 struct ContactCounts {
@@ -60,6 +70,9 @@ class DemEngine {
   /// Particles whose centre crossed a boundary (counted once each; they are then ignored by
   /// that boundary). A warning is printed on stderr the first time.
   virtual std::size_t escaped_count() const = 0;
+  /// Loads on each boundary (same order as SimulationSetup::boundaries) from the last force
+  /// evaluation; empty if the engine does not provide them.
+  virtual std::vector<BoundaryLoad> boundary_loads() const { return {}; }
 };
 
 /// How applications make an engine without knowing its library (apps pick by name).

@@ -8,10 +8,17 @@
 ///                      particle (POV-Ray is y-up, as the seed writes <x, z, y>)
 ///   energy.csv         step,time,kinetic,rotational,gravitational,elastic,dissipated,
 ///                      boundary_work  [-, s, J...]
+///   objects.csv        (scenes with [[object]]) one row per object per energy row:
+///                      step,time,object,centroid_x,centroid_y,centroid_z,qw,qx,qy,qz,
+///                      translation_x,translation_y,translation_z,force_x,force_y,force_z,
+///                      torque_x,torque_y,torque_z,outside_grid
+///                      [-, s, -, m x3, pose quaternion (object frame -> world), m x3, N x3,
+///                      N m x3 about the current centroid, count of samples outside the grid]
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/particle.hpp"
 
@@ -27,6 +34,21 @@ class EnergyLog {
  public:
   EnergyLog(std::filesystem::path file, std::string header);
   void add(long step, double time, const Energies& energies);
+  void flush() const;
+
+ private:
+  std::filesystem::path file_;
+  std::string header_;
+  std::vector<std::string> rows_;
+};
+
+/// Accumulates objects.csv rows (see above) and rewrites the file atomically on flush().
+class ObjectLog {
+ public:
+  ObjectLog(std::filesystem::path file, std::string header);
+  /// `object_index` is the position in Scene::objects (0-based), `load` its reaction.
+  void add(long step, double time, std::size_t object_index, const DistanceFieldObject& object,
+           const BoundaryLoad& load);
   void flush() const;
 
  private:

@@ -12,13 +12,24 @@
 ///                radius_max [m] (optional), seed, velocity [m/s] (optional), jitter (lattice);
 ///                allow_overlap = false
 ///   [[wall]]     point [m], normal (into the domain), velocity [m/s] (optional)
+///   [[object]]   a rigid object (distance_field_object.hpp), exactly one of
+///                  distance = "phi.vtk"  legacy VTK STRUCTURED_POINTS, phi [m] < 0 inside
+///                  mesh = "m.stl" with cells = [nx, ny, nz] and optional margin [m]
+///                    (default 2 R_max): voxelized on the fly with the exact builder on the
+///                    mesh's bounding box grown by margin, nx+1 x ny+1 x nz+1 nodes;
+///                and the motion (all optional, default at rest): velocity [m/s],
+///                axis (any length, normalised), omega [rad/s] about axis through centroid
+///                [m] (default: the grid's centre), start [s] (default 0), stop [s]
+///                (default never), name (default "object N")
 ///   [output]     dir (relative to the scene file), every (steps), formats = ["csv","vtk",
 ///                "pov"], progress = true (stderr)
 /// Only [simulation], [material], [contact] and [particles] are required.
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
 
 namespace ppohdem::dem {
@@ -32,8 +43,15 @@ struct OutputSpec {
   bool progress = true;
 };
 
+/// A rigid object of the scene; it is also setup.boundaries[boundary_index].
+struct SceneObject {
+  std::shared_ptr<const DistanceFieldObject> object;
+  std::size_t boundary_index = 0;
+};
+
 struct Scene {
   SimulationSetup setup;
+  std::vector<SceneObject> objects;
   long steps = 0;
   OutputSpec output;
 };

@@ -47,6 +47,8 @@ class ForcePass {
   virtual std::size_t active_contacts() const = 0;
   /// Particles that have crossed a boundary so far (boundary passes only).
   virtual std::size_t escaped() const { return 0; }
+  /// Reaction on each boundary from the last add_forces (boundary passes only).
+  virtual std::vector<ppohdem::dem::BoundaryLoad> loads() const { return {}; }
 };
 
 class ReferenceEngine final : public ppohdem::dem::DemEngine {
@@ -66,6 +68,7 @@ class ReferenceEngine final : public ppohdem::dem::DemEngine {
   Energies energies() const override;
   ContactCounts contact_counts() const override;
   std::size_t escaped_count() const override;
+  std::vector<ppohdem::dem::BoundaryLoad> boundary_loads() const override;
 
  private:
   void evaluate_forces(double history_dt);

@@ -1,0 +1,79 @@
+#pragma once
+/// \file distance_field_object.hpp
+/// A rigid object given by a signed distance field and a prescribed rigid motion (the seed's
+/// DEM-Util objects_update), seen by the engine as a Boundary (boundary.hpp).
+///
+/// The field phi is stored in the OBJECT frame, which is the world frame at the start of the
+/// motion: phi [m] at the nodes of `field.grid`, negative inside the object. With the pose
+/// P(t) = motion.pose_at(tau(t)) (rigid_motion.hpp), a sphere of centre x and radius R:
+///   y     = P(t)^-1 x                        centre in the object frame [m]
+///   phi, g = trilinear value and exact gradient of the interpolant at y (trilinear.hpp)
+///   n     = R(t) g / |g|                     unit normal, object -> particle (world frame)
+///   delta = R - phi                          overlap [m]; contact when phi < R
+///   p     = x - phi n                        contact point: the foot of the centre on the
+///                                            local tangent plane of the zero level set
+///                                            (the point PlaneWall uses for a wall) [m]
+///   v_s   = v + omega x (p - c(t))           surface velocity at p [m/s]
+/// The engine uses the contact laws with the object as body j of infinite mass and ZERO
+/// CURVATURE (a local tangent plane): R* = R_particle, m* = m_particle, E* and G* as for a
+/// wall. (For a sphere object of radius R_o the Hertz pair value would be R* = R R_o/(R + R_o);
+/// this model deliberately uses the tangent plane, see docs/objects.md.)
+/// A centre inside the object (phi <= 0) still gets a contact (delta >= R) pushing it out
+/// along the gradient; a zero gradient gives no contact. has_escaped() is always false.
+///
+/// Time limits: the object moves for t in [start, stop] and rests outside it:
+///   tau(t) = min(max(t, start), stop) - start,  v_s = 0 outside [start, stop).
+///
+/// Outside the grid: a centre whose object-frame position is outside the node box has no
+/// contact (the object is treated as far away) and is counted (outside_grid_count()); the
+/// caller warns once (run_scene does).
+#include <atomic>
+#include <cstddef>
+#include <limits>
+#include <string>
+
+#include "ppohdem/dem/boundary.hpp"
+#include "ppohdem/geometry/rigid_motion.hpp"
+#include "ppohdem/grid/scalar_field.hpp"
+
+namespace ppohdem::dem {
+
+class DistanceFieldObject final : public Boundary {
+ public:
+  /// Throws InputError (naming `name`) if the grid is invalid, the value count does not match,
+  /// a value is not finite, the motion is not finite or stop < start.
+  DistanceFieldObject(ScalarField field, const RigidMotion& motion, std::string name,
+                      double start = 0.0, double stop = std::numeric_limits<double>::infinity());
+
+  std::optional<BoundaryContact> contact(const Vec3& centre, double radius,
+                                         double time) const override;
+  bool has_escaped(const Vec3& /*centre*/, double /*time*/) const override { return false; }
+  std::string describe() const override;
+
+  /// The object's pose at time t [s]: object frame -> world.
+  RigidTransform pose_at(double time) const;
+  /// Centroid in the world at time t [m] (the point forces' torques are taken about).
+  Vec3 centroid_at(double time) const;
+  /// Velocity of the object's material at world point x at time t [m/s].
+  Vec3 point_velocity(const Vec3& x, double time) const;
+  /// Number of contact() calls so far whose centre was outside the grid.
+  std::size_t outside_grid_count() const { return outside_grid_.load(std::memory_order_relaxed); }
+
+  const ScalarField& field() const { return field_; }
+  const RigidMotion& motion() const { return motion_; }
+  const std::string& name() const { return name_; }
+  double start() const { return start_; }
+  double stop() const { return stop_; }
+
+ private:
+  double motion_time(double time) const;  ///< tau(t) [s]
+
+  ScalarField field_;
+  RigidMotion motion_;
+  std::string name_;
+  double start_;
+  double stop_;
+  mutable std::atomic<std::size_t> outside_grid_{0};
+};
+
+}  // namespace ppohdem::dem
