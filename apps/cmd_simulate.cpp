@@ -3,17 +3,21 @@
 //   ppohdem simulate SCENE.toml [--engine reference] [--force] [--quiet]
 //       Reads the TOML scene (ppohdem/dem/scene.hpp), runs it with the chosen engine and writes
 //       final.csv, energy.csv and frames into the scene's [output] dir.
-// Dispatch on the input file: a TOML scene; a legacy ppohDEM input_params_update.dat
-// (recognised by its content, first label `Lx_Ly_Lz:`, or forced with --legacy) is refused
-// with a clear error until the legacy driver exists (issue 6).
+//   ppohdem simulate input_params_update.dat [--data-length L] [--steps N | --time-finish T]
+//       The seed's sample_main01 (dem/legacy_scene.hpp), recognised by the first label
+//       `Lx_Ly_Lz:` or forced with --legacy; run in the directory holding the distance files.
+// --steps / --time-finish override the end of any scene (short test runs).
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <cmath>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "commands.hpp"
 #include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/legacy_scene.hpp"
 #include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
 #include "ppohdem/error.hpp"
@@ -29,6 +33,9 @@ struct SimulateOptions {
   bool force = false;
   bool quiet = false;
   bool legacy = false;
+  std::optional<long> steps;          // overrides the scene's step count
+  std::optional<double> time_finish;  // [s], overrides it as round(T / dt) steps
+  std::optional<double> data_length;  // legacy: L of the distance data [m]
 };
 
 const std::map<std::string, dem::EngineFactory>& engines() {
@@ -37,8 +44,13 @@ const std::map<std::string, dem::EngineFactory>& engines() {
   return table;
 }
 
-void run_toml_scene(const SimulateOptions& options) {
-  dem::Scene scene = dem::read_scene(options.input);
+void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
+  if (options.steps) scene.steps = *options.steps;
+  if (options.time_finish) {
+    if (!(*options.time_finish >= 0.0)) throw InputError("--time-finish: expected a time >= 0 s");
+    scene.steps = std::lround(*options.time_finish / scene.setup.dt);
+  }
+  if (scene.steps < 0) throw InputError("--steps: expected >= 0");
   scene.setup.force_time_step = options.force;
   if (options.quiet) scene.output.progress = false;
   const auto factory = engines().find(options.engine);
@@ -90,11 +102,13 @@ bool looks_like_legacy_input(const std::string& path) {
 
 void run_input(const SimulateOptions& options) {
   if (options.legacy || looks_like_legacy_input(options.input)) {
-    throw InputError(options.input, 0,
-                     "legacy input (input_params_update.dat) is not supported yet; write a TOML "
-                     "scene with [[object]] blocks instead (docs/objects.md)");
+    dem::LegacySceneOptions legacy;
+    legacy.data_length = options.data_length;
+    run_scene_file(options, dem::read_legacy_scene(options.input, legacy));
+    return;
   }
-  run_toml_scene(options);
+  if (options.data_length) throw InputError("--data-length applies to legacy inputs only");
+  run_scene_file(options, dem::read_scene(options.input));
 }
 
 }  // namespace
@@ -107,6 +121,10 @@ void register_simulate(CLI::App& app) {
   cmd->add_flag("--force", options->force, "run even if dt is above the stability limit");
   cmd->add_flag("--quiet", options->quiet, "no progress lines on stderr");
   cmd->add_flag("--legacy", options->legacy, "read the input as a legacy input_params_update.dat");
+  cmd->add_option("--steps", options->steps, "run this many steps instead of the scene's");
+  cmd->add_option("--time-finish", options->time_finish, "run to this time [s] instead of the scene's end");
+  cmd->add_option("--data-length", options->data_length,
+                  "legacy: length L [m] of the distance data (default: from input_constants_voxelizer.dat)");
   cmd->callback([options] { run_input(*options); });
 }
 
