@@ -71,4 +71,20 @@ posX_posY_posZ: 22 22 16
 DAT
 cp fixtures/seed-sample/input_params_update.dat "$OUT/seed-sample/"
 (cd "$OUT/seed-sample" && "$BIN" voxelize input_constants_voxelizer.dat && "$BIN" simulate input_params_update.dat --quiet)
+echo "== 7. picture of the last frame (POV-Ray; the particles and the cube at step 150,000)"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+# colors.inc is in povray-includes (only recommended by povray).
+command -v povray >/dev/null && [ -f /usr/share/povray-3.7/include/colors.inc ] ||
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends povray povray-includes >/dev/null || true
+if command -v povray >/dev/null; then
+  FRAME="$OUT/seed-sample/out/frame_150000"
+  if povray +I"$FRAME.pov" +O"$FRAME.png" +W800 +H600 -D +A +L/usr/share/povray-3.7/include 2>"$FRAME.povray.log"; then
+    echo "picture: $FRAME.png"
+  else
+    echo "picture: povray failed, see $FRAME.povray.log" >&2
+  fi
+else
+  echo "picture: povray is not available; skipped (render $OUT/seed-sample/out/frame_150000.pov yourself)"
+fi
 echo "== demo outputs are in $OUT (open the .vtk files in ParaView)"

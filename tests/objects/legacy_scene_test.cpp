@@ -151,5 +151,31 @@ TEST(LegacyScene, DataLengthComesFromTheOptionOrIsAnError) {
   EXPECT_THAT(error_of(file, options), HasSubstr("resolution mismatch"));
 }
 
+
+// The display mesh: object_mesh.stl (data coordinates, node m at h (m - 1)) moves with the field
+// to node m at h (m - winstart): by -(3 - 1) 0.5 = -1 m per axis for the default window start 3.
+TEST(LegacyScene, DisplayMeshIsTheObjectMeshShiftedLikeTheField) {
+  const fs::path params = write_case(Params{}, true);
+  std::ofstream(params.parent_path() / "object_mesh.stl")
+      << "solid t\nfacet normal 0 0 1\nouter loop\nvertex 1 2 3\nvertex 4 2 3\nvertex 1 5 3\n"
+         "endloop\nendfacet\nendsolid t\n";
+  const Scene scene = read_legacy_scene(params, {});
+  ASSERT_EQ(scene.objects.size(), 1u);
+  const TriangleMesh* mesh = scene.objects[0].object->display_mesh();
+  ASSERT_NE(mesh, nullptr);
+  ASSERT_EQ(mesh->size(), 1u);
+  const Vec3 expected[3] = {Vec3(0, 1, 2), Vec3(3, 1, 2), Vec3(0, 4, 2)};  // by hand
+  for (int k = 0; k < 3; ++k) {
+    // 1e-15: one subtraction of exactly representable numbers (h = 0.5) is exact; margin only.
+    EXPECT_LT((mesh->triangles[0].v[static_cast<std::size_t>(k)] - expected[k]).norm(), 1e-15) << "vertex " << k;
+  }
+}
+
+TEST(LegacyScene, NoObjectMeshFileMeansNoDisplayMesh) {
+  const Scene scene = read_legacy_scene(write_case(Params{}, true), {});
+  ASSERT_EQ(scene.objects.size(), 1u);
+  EXPECT_EQ(scene.objects[0].object->display_mesh(), nullptr);
+}
+
 }  // namespace
 }  // namespace ppohdem::dem

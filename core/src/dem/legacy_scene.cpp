@@ -10,6 +10,7 @@
 #include "ppohdem/error.hpp"
 #include "ppohdem/io/distance_dat.hpp"
 #include "ppohdem/io/legacy_inputs.hpp"
+#include "ppohdem/mesh/stl_io.hpp"
 
 namespace ppohdem::dem {
 namespace {
@@ -153,7 +154,18 @@ Scene read_legacy_scene(const fs::path& params_file, const LegacySceneOptions& o
     motion.angular_velocity = in.rotation_axis.normalized() * (std::numbers::pi / in.omega_pi_rad_per_w / frame_time);
   }
   motion.centroid = in.centroid + grid.origin;
-  auto object = std::make_shared<const DistanceFieldObject>(std::move(field), motion, name + ": object");
+  auto object = std::make_shared<DistanceFieldObject>(std::move(field), motion, name + ": object");
+  // Display mesh: the placed mesh `ppohdem voxelize` wrote beside the distance files, in data
+  // coordinates where node m sits at h (m - 1); the field's nodes sit at h (m - winstart), so the
+  // mesh moves by the same offset as the field origin, -(winstart - 1) h. None if absent.
+  const fs::path mesh_file = dir / "object_mesh.stl";
+  if (fs::exists(mesh_file)) {
+    TriangleMesh mesh = read_stl(mesh_file);
+    for (Triangle& t : mesh.triangles) {
+      for (Vec3& v : t.v) v += grid.origin;
+    }
+    object->set_display_mesh(std::move(mesh));
+  }
   scene.objects.push_back({object, s.boundaries.size()});
   s.boundaries.push_back(object);
   std::fprintf(stderr,

@@ -49,7 +49,8 @@ void write_vtk_frame(const std::filesystem::path& file, const Particles& particl
 }
 
 void write_pov_frame(const std::filesystem::path& file, const Particles& particles,
-                     const std::string& header) {
+                     const std::string& header,
+                     const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects, double time) {
   AtomicFileWriter writer(file);
   std::ostream& out = writer.stream();
   out << "// " << header << "\n// POV-Ray scene: <x, z, y> because POV-Ray is y-up (as the seed).\n";
@@ -77,7 +78,58 @@ void write_pov_frame(const std::filesystem::path& file, const Particles& particl
                   p.position.x(), p.position.z(), p.position.y(), p.radius);
     out << buf;
   }
+  // Objects: the display mesh at the object's pose, in the same <x, z, y> order. (Swapping y and
+  // z mirrors the scene; POV-Ray triangles have no facing side, so the order is harmless.)
+  for (const auto& object : objects) {
+    const TriangleMesh* mesh = object ? object->display_mesh() : nullptr;
+    if (!mesh || mesh->empty()) continue;
+    const RigidTransform pose = object->pose_at(time);
+    out << "mesh {\n";
+    for (const Triangle& t : mesh->triangles) {
+      out << "  triangle {";
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 p = pose.apply(t.v[static_cast<std::size_t>(k)]);
+        std::snprintf(buf, sizeof buf, "%s<%.10g, %.10g, %.10g>", k == 0 ? " " : ", ", p.x(), p.z(), p.y());
+        out << buf;
+      }
+      out << " }\n";
+    }
+    out << "  pigment { color rgb <0.3, 0.5, 0.8> }\n}\n";
+  }
   writer.commit();
+}
+
+TriangleMesh transformed(const TriangleMesh& mesh, const RigidTransform& pose) {
+  TriangleMesh moved = mesh;
+  for (Triangle& t : moved.triangles) {
+    for (Vec3& v : t.v) v = pose.apply(v);
+    t.file_normal = pose.rotate(t.file_normal);
+  }
+  return moved;
+}
+
+void write_mesh_vtk(const std::filesystem::path& file, const TriangleMesh& mesh, const std::string& header) {
+  AtomicFileWriter writer(file);
+  std::ostream& out = writer.stream();
+  out << "# vtk DataFile Version 3.0\n" << header.substr(0, 255) << "\nASCII\nDATASET POLYDATA\n";
+  const std::size_t n = mesh.size();
+  out << "POINTS " << 3 * n << " double\n";
+  char buf[200];
+  for (const Triangle& t : mesh.triangles) {
+    for (const Vec3& v : t.v) {
+      std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g\n", v.x(), v.y(), v.z());
+      out << buf;
+    }
+  }
+  out << "POLYGONS " << n << ' ' << 4 * n << '\n';
+  for (std::size_t i = 0; i < n; ++i) out << "3 " << 3 * i << ' ' << 3 * i + 1 << ' ' << 3 * i + 2 << '\n';
+  writer.commit();
+}
+
+std::string object_mesh_file_name(std::size_t object_index, long step) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "object_%zu_%06ld.vtk", object_index, step);
+  return buf;
 }
 
 EnergyLog::EnergyLog(std::filesystem::path file, std::string header)

@@ -50,11 +50,27 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     }
   };
 
+  // Objects' display meshes go into the POV frames and objects/object_K_NNNNNN.vtk.
+  std::vector<std::shared_ptr<const DistanceFieldObject>> object_ptrs;
+  bool any_display_mesh = false;
+  for (const SceneObject& so : scene.objects) {
+    object_ptrs.push_back(so.object);
+    any_display_mesh = any_display_mesh || so.object->display_mesh() != nullptr;
+  }
   auto write_frame = [&](long step) {
     const fs::path stem = out.dir / frame_stem(step);
     if (out.csv) write_particles_csv(fs::path(stem).concat(".csv"), engine.particles(), header);
     if (out.vtk) write_vtk_frame(fs::path(stem).concat(".vtk"), engine.particles(), header);
-    if (out.pov) write_pov_frame(fs::path(stem).concat(".pov"), engine.particles(), header);
+    if (out.pov) write_pov_frame(fs::path(stem).concat(".pov"), engine.particles(), header, object_ptrs, engine.time());
+    if ((out.vtk || out.pov) && any_display_mesh) {
+      fs::create_directories(out.dir / "objects", ec);
+      for (std::size_t o = 0; o < object_ptrs.size(); ++o) {
+        const DistanceFieldObject& object = *object_ptrs[o];
+        if (!object.display_mesh()) continue;
+        write_mesh_vtk(out.dir / "objects" / object_mesh_file_name(o, step),
+                       transformed(*object.display_mesh(), object.pose_at(engine.time())), header);
+      }
+    }
     if (out.csv || out.vtk || out.pov) ++summary.frames;
   };
 

@@ -292,6 +292,7 @@ class SceneParser {
     const bool has_mesh = t.contains("mesh");
     if (has_distance == has_mesh) fail(&t, "[[object]] needs exactly one of distance = \"phi.vtk\" or mesh = \"m.stl\"");
     ScalarField field;
+    std::optional<TriangleMesh> display_mesh;  // the mesh = itself, in the object frame
     if (has_distance) {
       for (const char* key : {"cells", "margin"}) {
         if (t.contains(key)) fail(t.get(key), std::string("[object] ") + key + " applies to mesh =, not to distance =");
@@ -311,6 +312,7 @@ class SceneParser {
       const Index3 nodes = {(*cells)[0] + 1, (*cells)[1] + 1, (*cells)[2] + 1};
       const GridSpec grid = GridSpec::spanning(box.min - pad, box.max + pad, nodes);
       field = FastSdfBuilder().build(mesh, grid);  // exact distance (fast_sdf_builder.hpp)
+      display_mesh = mesh;
     }
     RigidMotion motion;
     motion.velocity = optional_vec3(t, "object", "velocity").value_or(Vec3::Zero());
@@ -326,7 +328,9 @@ class SceneParser {
     const double start = optional_number(t, "object", "start").value_or(0.0);
     const double stop = optional_number(t, "object", "stop").value_or(std::numeric_limits<double>::infinity());
     if (stop < start) fail(t.get("stop"), "[object] stop must be >= start");
-    return std::make_shared<const DistanceFieldObject>(std::move(field), motion, name_ + ": " + name, start, stop);
+    auto object = std::make_shared<DistanceFieldObject>(std::move(field), motion, name_ + ": " + name, start, stop);
+    if (display_mesh) object->set_display_mesh(std::move(*display_mesh));
+    return object;
   }
 
   fs::path file_;

@@ -27,14 +27,20 @@
 /// Outside the grid: a centre whose object-frame position is outside the node box has no
 /// contact (the object is treated as far away) and is counted (outside_grid_count()); the
 /// caller warns once (run_scene does).
+///
+/// Display mesh (optional, pictures only; never used for contact): a TriangleMesh in the object
+/// frame (the frame of `field.grid`); the frame writers draw it moved by pose_at(t).
 #include <atomic>
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/geometry/rigid_motion.hpp"
 #include "ppohdem/grid/scalar_field.hpp"
+#include "ppohdem/mesh/triangle_mesh.hpp"
 
 namespace ppohdem::dem {
 
@@ -65,6 +71,11 @@ class DistanceFieldObject final : public Boundary {
   double start() const { return start_; }
   double stop() const { return stop_; }
 
+  /// Attach the display mesh (object frame, m); call before the object is shared.
+  void set_display_mesh(TriangleMesh mesh) { display_mesh_ = std::move(mesh); }
+  /// The display mesh, or nullptr if the object has none.
+  const TriangleMesh* display_mesh() const { return display_mesh_ ? &*display_mesh_ : nullptr; }
+
  private:
   double motion_time(double time) const;  ///< tau(t) [s]
 
@@ -73,6 +84,7 @@ class DistanceFieldObject final : public Boundary {
   std::string name_;
   double start_;
   double stop_;
+  std::optional<TriangleMesh> display_mesh_;
   mutable std::atomic<std::size_t> outside_grid_{0};
 };
 

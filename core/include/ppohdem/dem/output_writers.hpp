@@ -5,7 +5,12 @@
 ///   frame_NNNNNN.vtk   legacy VTK POLYDATA (ParaView): POINTS = centres, one VERTEX each,
 ///                      POINT_DATA: radius (scalar), velocity, angular_velocity (vectors), id
 ///   frame_NNNNNN.pov   POV-Ray scene: camera, light and `sphere { <x, z, y>, r }` per
-///                      particle (POV-Ray is y-up, as the seed writes <x, z, y>)
+///                      particle (POV-Ray is y-up, as the seed writes <x, z, y>), then one
+///                      `mesh { triangle { <..>, <..>, <..> } ... }` per object with a display
+///                      mesh, moved by the object's pose_at(t)
+///   objects/object_K_NNNNNN.vtk  (with vtk or pov frames, objects with a display mesh) the
+///                      display mesh of Scene::objects[K] moved by pose_at(t): legacy VTK
+///                      POLYDATA, POINTS (3 per triangle, world frame, m) and POLYGONS
 ///   energy.csv         step,time,kinetic,rotational,gravitational,elastic,dissipated,
 ///                      boundary_work  [-, s, J...]
 ///   objects.csv        (scenes with [[object]]) one row per object per energy row:
@@ -14,20 +19,34 @@
 ///                      torque_x,torque_y,torque_z,outside_grid
 ///                      [-, s, -, m x3, pose quaternion (object frame -> world), m x3, N x3,
 ///                      N m x3 about the current centroid, count of samples outside the grid]
+#include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/particle.hpp"
+#include "ppohdem/mesh/triangle_mesh.hpp"
 
 namespace ppohdem::dem {
 
 void write_vtk_frame(const std::filesystem::path& file, const Particles& particles,
                      const std::string& header);
+/// `objects`: the scene's objects; each one's display mesh (if any) is drawn at pose_at(time).
 void write_pov_frame(const std::filesystem::path& file, const Particles& particles,
-                     const std::string& header);
+                     const std::string& header,
+                     const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects = {},
+                     double time = 0.0);
+
+/// `mesh` with every vertex mapped by `pose` (x -> R x + t); file normals are rotated.
+TriangleMesh transformed(const TriangleMesh& mesh, const RigidTransform& pose);
+/// Legacy VTK POLYDATA of a triangle mesh: 3 POINTS per triangle (%.17g, so a reader gets the
+/// doubles back exactly) and one POLYGONS entry "3 a b c" per triangle.
+void write_mesh_vtk(const std::filesystem::path& file, const TriangleMesh& mesh, const std::string& header);
+/// "object_2_000123.vtk" for object 2 at step 123.
+std::string object_mesh_file_name(std::size_t object_index, long step);
 
 /// Accumulates energy rows and rewrites energy.csv atomically on flush().
 class EnergyLog {
