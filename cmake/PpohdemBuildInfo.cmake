@@ -9,6 +9,24 @@ if(GIT_FOUND AND EXISTS ${CMAKE_SOURCE_DIR}/.git)
   if(_rc EQUAL 0 AND _hash)
     set(PPOHDEM_GIT_HASH ${_hash})
   endif()
+  # Re-configure when HEAD moves (a commit, a checkout), so an incremental build never reports
+  # a stale hash: depend on HEAD, the branch's ref file and packed-refs.
+  execute_process(COMMAND ${GIT_EXECUTABLE} rev-parse --absolute-git-dir
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR} OUTPUT_VARIABLE _git_dir
+    OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+  execute_process(COMMAND ${GIT_EXECUTABLE} symbolic-ref -q HEAD
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR} OUTPUT_VARIABLE _git_ref
+    OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+  if(_git_dir)
+    set(_git_files ${_git_dir}/HEAD)
+    if(_git_ref AND EXISTS ${_git_dir}/${_git_ref})
+      list(APPEND _git_files ${_git_dir}/${_git_ref})
+    endif()
+    if(EXISTS ${_git_dir}/packed-refs)
+      list(APPEND _git_files ${_git_dir}/packed-refs)
+    endif()
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_git_files})
+  endif()
 endif()
 string(TOUPPER "${CMAKE_BUILD_TYPE}" _bt)
 set(PPOHDEM_CXX_FLAGS "${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${_bt}}")
