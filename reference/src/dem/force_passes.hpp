@@ -3,8 +3,10 @@
 // instantiated per (law, friction) at construction: a frictionless scene runs the kernel
 // without any tangential history code, a scene without walls has no boundary pass at all.
 // The kernels mirror the formulas of ppohdem/dem/contact_force.hpp.
+#include <algorithm>
 #include <cstdio>
 #include <map>
+#include <string>
 #include <set>
 #include <utility>
 #include <vector>
@@ -12,6 +14,7 @@
 #include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/contact_force.hpp"
 #include "ppohdem/dem/material.hpp"
+#include "ppohdem/error.hpp"
 #include "ppohdem/reference/dem/cell_list.hpp"
 #include "ppohdem/reference/dem/reference_engine.hpp"
 
@@ -60,6 +63,7 @@ class PairForces final : public ForcePass {
                                         (b.velocity + b.angular_velocity.cross(r_b)));
       k.pair.m_eff = harmonic_pair(c.mass[i], c.mass[j]);  // m* = m_i m_j / (m_i + m_j)
       k.pair.r_eff = harmonic_pair(a.radius, b.radius);    // R* = R_i R_j / (R_i + R_j)
+      c.note_overlap(k.overlap, std::min(a.radius, b.radius), a.id, b.id, false);
       ContactForce f;
       if constexpr (kFriction) {
         const Key key(a.id, b.id);
@@ -91,7 +95,33 @@ class PairForces final : public ForcePass {
   }
   std::size_t active_contacts() const override { return active_; }
 
+  void save(EngineState& state) const override {
+    state.contact_counts.particle_pairs = active_;
+    if constexpr (kFriction) {
+      for (const auto& [key, spring] : history_) {
+        state.contacts.push_back({Record::Kind::kParticlePair, key.first, key.second, spring});
+      }
+    }
+  }
+  void restore(const EngineState& state) override {
+    active_ = state.contact_counts.particle_pairs;
+    History history;
+    for (const Record& r : state.contacts) {
+      if (r.kind != Record::Kind::kParticlePair) continue;
+      if (!kFriction) {
+        throw InputError("checkpoint: a particle-pair friction history, but this scene is frictionless");
+      }
+      const Key key(r.id_a, r.id_b);
+      if (r.id_a >= r.id_b || (!history.empty() && !(history.back().first < key))) {
+        throw InputError("checkpoint: particle-pair histories are not sorted by (id_a < id_b)");
+      }
+      history.emplace_back(key, r.spring);
+    }
+    history_ = std::move(history);
+  }
+
  private:
+  using Record = ppohdem::dem::ContactHistoryRecord;
   Law law_;
   std::size_t active_ = 0;
   using Key = std::pair<std::int64_t, std::int64_t>;  // (id_i, id_j), id_i < id_j
@@ -112,6 +142,7 @@ class BoundaryForces final : public ForcePass {
     active_ = 0;
     loads_.assign(boundaries_.size(), ppohdem::dem::BoundaryLoad{});
     std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> next_history;
+    double power = 0.0;  // P(n+1) = sum of (F_i - F_d) . v_s over the contacts [W]
     for (std::size_t i = 0; i < p.size(); ++i) {
       Particle& a = p[i];
       for (std::size_t w = 0; w < boundaries_.size(); ++w) {
@@ -126,24 +157,28 @@ class BoundaryForces final : public ForcePass {
         const auto contact = boundary.contact(a.position, a.radius, c.time);
         if (!contact) continue;
         ++active_;
+        c.note_overlap(contact->overlap, a.radius, a.id, static_cast<std::int64_t>(w), true);
         ContactKinematics k;
         k.normal = contact->normal;
         k.overlap = contact->overlap;
         const Vec3 r_a = contact->point - a.position;  // branch vector to the contact point [m]
         k.relative_velocity =
             c.velocity[i] + c.angular_velocity[i].cross(r_a) - contact->surface_velocity;
-        k.relative_displacement =
-            c.dt * (a.velocity + a.angular_velocity.cross(r_a) - contact->surface_velocity);
         k.pair.m_eff = c.mass[i];
         k.pair.r_eff = a.radius;
         ContactForce f;
         if constexpr (kFriction) {
           const auto key = std::pair(a.id, w);
           TangentialSpring spring;
-          if (auto it = history_.find(key); it != history_.end()) spring = it->second;
+          const auto it = history_.find(key);
+          if (it != history_.end()) spring = it->second;
+          // The boundary's material moved by (v_s(n) + v_s(n+1)) dt / 2 during the step (the
+          // trapezoid rule of Verlet; contact_force.hpp "Moving boundaries") [m/s].
+          const Vec3 v_s = ppohdem::dem::boundary_step_velocity(spring, it != history_.end(),
+                                                                contact->surface_velocity);
+          k.relative_displacement = c.dt * (a.velocity + a.angular_velocity.cross(r_a) - v_s);
           k.relative_displacement_previous_arms =
-              c.dt * (a.velocity + a.angular_velocity.cross(spring.branch_i) -
-                      contact->surface_velocity);
+              c.dt * (a.velocity + a.angular_velocity.cross(spring.branch_i) - v_s);
           f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
           spring.branch_i = r_a;
           next_history.emplace(key, spring);
@@ -157,9 +192,16 @@ class BoundaryForces final : public ForcePass {
         loads_[w].moment_about_origin += contact->point.cross(-f.on_i);
         c.elastic += f.elastic_energy;
         c.dissipated += f.dissipated;
-        c.boundary_work += f.on_i.dot(contact->surface_velocity) * c.dt;  // W = F . v_wall dt
+        // Work of the boundary on the particle (contact_force.hpp "Moving boundaries"): the
+        // dashpot's share now, F_d . v_s dt, as its dissipation; the rest below [J].
+        c.boundary_work += f.dashpot.dot(contact->surface_velocity) * c.dt;
+        power += (f.on_i - f.dashpot).dot(contact->surface_velocity);
       }
     }
+    // The rest by the trapezoid rule, as Verlet books the kinetic energy:
+    // W = (P(n) + P(n+1)) dt / 2 [J]. The start-up evaluation has dt = 0: it records P(0).
+    c.boundary_work += 0.5 * (power_ + power) * c.dt;
+    power_ = power;
     if constexpr (kFriction) {
       for (const auto& [key, spring] : history_) {
         if (!next_history.count(key)) c.dissipated += ended(spring);
@@ -171,11 +213,47 @@ class BoundaryForces final : public ForcePass {
   std::size_t escaped() const override { return escaped_.size(); }
   std::vector<ppohdem::dem::BoundaryLoad> loads() const override { return loads_; }
 
+  void save(EngineState& state) const override {
+    state.contact_counts.particle_boundary = active_;
+    state.boundary_power = power_;
+    state.boundary_loads = loads_;
+    state.escaped_ids.assign(escaped_.begin(), escaped_.end());
+    for (const auto& [key, spring] : history_) {
+      state.contacts.push_back({Record::Kind::kParticleBoundary, key.first,
+                                static_cast<std::int64_t>(key.second), spring});
+    }
+  }
+  void restore(const EngineState& state) override {
+    if (state.boundary_loads.size() != boundaries_.size()) {
+      throw InputError("checkpoint: " + std::to_string(state.boundary_loads.size()) +
+                       " boundaries, the scene has " + std::to_string(boundaries_.size()));
+    }
+    decltype(history_) history;
+    for (const Record& r : state.contacts) {
+      if (r.kind != Record::Kind::kParticleBoundary) continue;
+      if (!kFriction) {
+        throw InputError("checkpoint: a particle-boundary friction history, but this scene is frictionless");
+      }
+      if (r.id_b < 0 || static_cast<std::size_t>(r.id_b) >= boundaries_.size()) {
+        throw InputError("checkpoint: a contact history with boundary " + std::to_string(r.id_b) +
+                         ", the scene has " + std::to_string(boundaries_.size()));
+      }
+      history.emplace(std::pair(r.id_a, static_cast<std::size_t>(r.id_b)), r.spring);
+    }
+    history_ = std::move(history);
+    escaped_ = std::set<std::int64_t>(state.escaped_ids.begin(), state.escaped_ids.end());
+    loads_ = state.boundary_loads;
+    active_ = state.contact_counts.particle_boundary;
+    power_ = state.boundary_power;
+  }
+
  private:
+  using Record = ppohdem::dem::ContactHistoryRecord;
   Law law_;
   ppohdem::dem::BoundaryList boundaries_;
   std::vector<ppohdem::dem::BoundaryLoad> loads_;  ///< per boundary, last evaluation
   std::size_t active_ = 0;
+  double power_ = 0.0;  ///< P(n) of the last evaluation, without the dashpots' share [W]
   std::set<std::int64_t> escaped_;
   std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> history_;  // seed: contact_list_wall
 };
