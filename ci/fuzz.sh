@@ -19,13 +19,14 @@ SECONDS_PER_TARGET=${1:-60}
 shift || true
 BUILD_DIR=${BUILD_DIR:-build-fuzz}
 JOBS=${JOBS:-$(nproc)}
-ALL_TARGETS=(stl_ascii stl_binary voxelizer_input update_params_input vtk distance_dat scene_toml particle_csv)
+ALL_TARGETS=(stl_ascii stl_binary voxelizer_input update_params_input vtk distance_dat scene_toml particle_csv
+             checkpoint)
 TARGETS=("$@")
 if [ "${#TARGETS[@]}" -eq 0 ]; then TARGETS=("${ALL_TARGETS[@]}"); fi
 
 # Longest input per target: a few times the largest seed, small enough for fast mutation.
 declare -A MAX_LEN=([stl_ascii]=8192 [stl_binary]=4096 [voxelizer_input]=1024 [update_params_input]=1024
-                    [vtk]=4096 [distance_dat]=4096 [scene_toml]=4096 [particle_csv]=4096)
+                    [vtk]=4096 [distance_dat]=4096 [scene_toml]=4096 [particle_csv]=4096 [checkpoint]=4096)
 declare -A DICT=([stl_ascii]=stl_ascii [vtk]=vtk [voxelizer_input]=legacy_inputs
                  [update_params_input]=legacy_inputs [distance_dat]=distance_dat
                  [scene_toml]=scene_toml [particle_csv]=particle_csv)

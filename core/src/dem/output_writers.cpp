@@ -155,18 +155,19 @@ ObjectLog::ObjectLog(std::filesystem::path file, std::string header)
     : file_(std::move(file)), header_(std::move(header)) {}
 
 void ObjectLog::add(long step, double time, std::size_t object_index, const DistanceFieldObject& object,
-                    const BoundaryLoad& load) {
+                    const BoundaryLoad& load, std::int64_t outside_grid_offset) {
   const RigidTransform pose = object.pose_at(time);
   const Vec3 c = object.centroid_at(time);
   const Vec3 torque = load.torque_about(c);  // about the current centroid [N m]
   char buf[640];
   std::snprintf(buf, sizeof buf,
                 "%ld,%.17g,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                "%.17g,%.17g,%.17g,%.17g,%zu",
+                "%.17g,%.17g,%.17g,%.17g,%lld",
                 step, time, object_index, c.x(), c.y(), c.z(), pose.rotation.w(), pose.rotation.x(),
                 pose.rotation.y(), pose.rotation.z(), pose.translation.x(), pose.translation.y(),
                 pose.translation.z(), load.force.x(), load.force.y(), load.force.z(), torque.x(),
-                torque.y(), torque.z(), object.outside_grid_count());
+                torque.y(), torque.z(),
+                static_cast<long long>(static_cast<std::int64_t>(object.outside_grid_count()) + outside_grid_offset));
   rows_.emplace_back(buf);
 }
 

@@ -1,19 +1,90 @@
 #include "ppohdem/dem/run.hpp"
 
+#include <signal.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <regex>
+#include <sstream>
 #include <vector>
 
 #include "ppohdem/dem/output_writers.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
 #include "ppohdem/error.hpp"
+#include "ppohdem/provenance.hpp"
 
 namespace ppohdem::dem {
+namespace {
+
+/// The energies of an energy.csv data row "step,time,kinetic,...,boundary_work" (%.17g:
+/// the doubles come back exactly).
+Energies parse_energy_row(const std::string& row, const std::string& source) {
+  std::vector<double> v;
+  std::stringstream s(row);
+  std::string field;
+  while (std::getline(s, field, ',')) v.push_back(std::strtod(field.c_str(), nullptr));
+  if (v.size() != 8) throw InputError(source, 0, "checkpoint: an energy row without 8 fields: " + row);
+  Energies e;
+  e.kinetic = v[2];
+  e.rotational = v[3];
+  e.gravitational = v[4];
+  e.elastic = v[5];
+  e.dissipated = v[6];
+  e.boundary_work = v[7];
+  return e;
+}
+
+/// The objects' poses recorded in a checkpoint must be the scene's at the checkpoint's time:
+/// a changed motion would continue a different run. 1e-12: the poses are the same
+/// computation in the same build (bitwise equal); the slack only admits another compiler's
+/// rounding of a pose of order 1 (m, unit quaternion).
+void check_object_poses(const Scene& scene, const Checkpoint& c, double time, const std::string& source) {
+  if (c.objects.size() != scene.objects.size()) {
+    throw InputError(source, 0, "checkpoint: " + std::to_string(c.objects.size()) + " objects, the scene has " +
+                                    std::to_string(scene.objects.size()));
+  }
+  for (std::size_t o = 0; o < c.objects.size(); ++o) {
+    const RigidTransform pose = scene.objects[o].object->pose_at(time);
+    const double dq = std::min((pose.rotation.coeffs() - c.objects[o].rotation.coeffs()).norm(),
+                               (pose.rotation.coeffs() + c.objects[o].rotation.coeffs()).norm());
+    const double dx = (pose.translation - c.objects[o].translation).norm();
+    if (!(dq <= 1e-12) || !(dx <= 1e-12 * (1.0 + pose.translation.norm()))) {
+      throw InputError(source, 0, "checkpoint: object " + std::to_string(o) + " ('" + c.objects[o].name +
+                                      "') is not where the scene's motion puts it at the checkpoint's time "
+                                      "(the scene was changed?)");
+    }
+  }
+}
+
+}  // namespace
+
+std::size_t remove_stale_temp_files(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  static const std::regex temp_name(R"(.*\.tmp\.([0-9]+)\.[0-9]+)");
+  std::size_t removed = 0;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    std::smatch m;
+    const std::string name = it->path().filename().string();
+    if (!std::regex_match(name, m, temp_name)) continue;
+    const long pid = std::strtol(m[1].str().c_str(), nullptr, 10);
+    // Only temp files of processes that no longer exist (a live writer may be renaming it).
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) {
+      std::error_code rm;
+      if (fs::remove(it->path(), rm)) ++removed;
+    }
+  }
+  return removed;
+}
 
 RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& header,
-                     std::ostream& log) {
+                     std::ostream& log, const RunOptions& options) {
   namespace fs = std::filesystem;
   const OutputSpec& out = scene.output;
   std::error_code ec;
@@ -21,21 +92,25 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   if (!fs::is_directory(out.dir)) {
     throw InputError(out.dir.string(), 0, "cannot create the output directory");
   }
+  if (const std::size_t stale = remove_stale_temp_files(out.dir); stale > 0) {
+    std::fprintf(stderr, "simulate: removed %zu temp files of interrupted runs from %s\n", stale,
+                 out.dir.string().c_str());
+  }
   EnergyLog energy(out.dir / "energy.csv", header);
   const long energy_every = out.every > 0 ? out.every : std::max(1L, scene.steps / 100);
   RunSummary summary;
-  summary.initial = engine.energies();
   // Objects: poses and loads with every energy row; a warning the first time an object is
   // sampled outside its grid (the particle is then treated as far from it).
   ObjectLog object_log(out.dir / "objects.csv", header);
   std::vector<bool> warned_outside(scene.objects.size(), false);
+  std::vector<std::int64_t> outside_offset(scene.objects.size(), 0);  // restart: counts so far
   auto log_objects = [&](long step) {
     if (scene.objects.empty()) return;
     const std::vector<BoundaryLoad> loads = engine.boundary_loads();
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       const SceneObject& so = scene.objects[o];
       const BoundaryLoad load = so.boundary_index < loads.size() ? loads[so.boundary_index] : BoundaryLoad{};
-      object_log.add(step, engine.time(), o, *so.object, load);
+      object_log.add(step, engine.time(), o, *so.object, load, outside_offset[o]);
     }
   };
   auto warn_outside = [&] {
@@ -73,36 +148,113 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     }
     if (out.csv || out.vtk || out.pov) ++summary.frames;
   };
+  auto make_checkpoint = [&] {
+    Checkpoint c;
+    c.provenance = header;
+    c.scene = options.scene_name;
+    c.engine = engine.save_state();
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+      const DistanceFieldObject& object = *scene.objects[o].object;
+      const RigidTransform pose = object.pose_at(engine.time());
+      c.objects.push_back({object.name(), pose.rotation, pose.translation,
+                           static_cast<std::uint64_t>(static_cast<std::int64_t>(object.outside_grid_count()) +
+                                                      outside_offset[o])});
+    }
+    c.run.energy_rows = energy.rows();
+    c.run.object_rows = object_log.rows();
+    c.run.frames = summary.frames;
+    return c;
+  };
+
+  // The deepest overlap of the initial state (the engine was built from the scene), which the
+  // overlap check accepts as given (run_diagnostics.hpp).
+  const std::optional<LargestOverlap> initial_deepest = engine.largest_overlap();
+  const double initial_overlap = initial_deepest ? initial_deepest->ratio : 0.0;
+  if (options.restart) {
+    const Checkpoint& c = *options.restart;
+    const std::string source = options.scene_name.empty() ? std::string("checkpoint") : options.scene_name;
+    if (c.build != checkpoint_build_name()) {
+      std::fprintf(stderr, "simulate: note: the checkpoint was written by %s, this is %s (same format; "
+                   "bitwise continuation is promised only for the same build)\n",
+                   c.build.c_str(), checkpoint_build_name().c_str());
+    }
+    engine.restore_state(c.engine);
+    check_object_poses(scene, c, engine.time(), source);
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+      outside_offset[o] = static_cast<std::int64_t>(c.objects[o].outside_grid) -
+                          static_cast<std::int64_t>(scene.objects[o].object->outside_grid_count());
+    }
+    if (c.run.energy_rows.empty()) throw InputError(source, 0, "checkpoint: no energy rows (step 0 is missing)");
+    energy.set_rows(c.run.energy_rows);
+    object_log.set_rows(c.run.object_rows);
+    summary.frames = static_cast<std::size_t>(c.run.frames);
+    summary.initial = parse_energy_row(c.run.energy_rows.front(), source);
+    std::fprintf(stderr, "simulate: restarted at step %ld (t = %g s) from a checkpoint of %s\n",
+                 engine.step_count(), engine.time(), c.build.c_str());
+  } else {
+    summary.initial = engine.energies();
+  }
+  RunDiagnostics diagnostics(scene.setup, scene.checks, summary.initial, initial_overlap);
+  // A failed check: keep what the run did, up to and including the failed step (energy rows
+  // only while they are finite: no NaN in the outputs), and the state for inspection.
+  auto stop = [&](const std::string& diagnosis) {
+    const Energies e = engine.energies();
+    if (std::isfinite(e.total())) {
+      energy.add(engine.step_count(), engine.time(), e);
+      log_objects(engine.step_count());
+    }
+    energy.flush();
+    if (!scene.objects.empty()) object_log.flush();
+    std::string note;
+    try {
+      write_checkpoint(out.dir / kFailedCheckpointFile, make_checkpoint());
+      note = " The state of that step is in " + (out.dir / kFailedCheckpointFile).string() + ".";
+    } catch (const std::exception& ex) {
+      note = std::string(" (no checkpoint of the failed state: ") + ex.what() + ")";
+    }
+    throw RunFailure(diagnosis + "." + note);
+  };
+  if (const auto diagnosis = diagnostics.check_finite(engine)) stop(*diagnosis);
 
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   auto last_report = start;
   long last_percent = 0;
-  energy.add(engine.step_count(), engine.time(), summary.initial);
-  log_objects(engine.step_count());
-  warn_outside();
-  if (out.every > 0) write_frame(engine.step_count());
-  for (long s = 1; s <= scene.steps; ++s) {
-    engine.step();
-    const long step = engine.step_count();
+  const long first_step = engine.step_count();
+  if (!options.restart) {
+    energy.add(engine.step_count(), engine.time(), summary.initial);
+    log_objects(engine.step_count());
     warn_outside();
-    if (s % energy_every == 0 || s == scene.steps) {
+    if (out.every > 0) write_frame(engine.step_count());
+  }
+  for (long step = first_step + 1; step <= scene.steps; ++step) {
+    engine.step();
+    warn_outside();
+    if (const auto diagnosis = diagnostics.check(engine)) stop(*diagnosis);
+    if (step % energy_every == 0 || step == scene.steps) {
       energy.add(step, engine.time(), engine.energies());
       log_objects(step);
     }
-    if (out.every > 0 && s % out.every == 0) {
+    if (out.every > 0 && step % out.every == 0) {
       write_frame(step);
       energy.flush();
       if (!scene.objects.empty()) object_log.flush();
     }
-    if (out.progress && scene.steps >= 1000) {
-      const long percent = 100 * s / scene.steps;
+    if (options.checkpoint_every > 0 && (step % options.checkpoint_every == 0 || step == scene.steps)) {
+      // The logs first: every file on disk then covers at least the checkpoint's steps.
+      energy.flush();
+      if (!scene.objects.empty()) object_log.flush();
+      write_checkpoint(out.dir / kCheckpointFile, make_checkpoint());
+    }
+    const long done = step - first_step, total = scene.steps - first_step;
+    if (out.progress && total >= 1000) {
+      const long percent = 100 * done / total;
       const auto now = clock::now();
       if (percent >= last_percent + 10 || now - last_report > std::chrono::seconds(5)) {
         const double elapsed = std::chrono::duration<double>(now - start).count();
-        std::fprintf(stderr, "simulate: step %ld / %ld (%ld %%), %.1f s elapsed, %.0f s left\n", s,
+        std::fprintf(stderr, "simulate: step %ld / %ld (%ld %%), %.1f s elapsed, %.0f s left\n", step,
                      scene.steps, percent, elapsed,
-                     elapsed * static_cast<double>(scene.steps - s) / static_cast<double>(s));
+                     elapsed * static_cast<double>(total - done) / static_cast<double>(done));
         last_percent = percent - percent % 10;
         last_report = now;
       }
@@ -112,7 +264,8 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.steps = scene.steps;
   summary.final = engine.energies();
   summary.escaped = engine.escaped_count();
-  log << "simulate: " << scene.steps << " steps of " << engine.particles().size()
+  summary.margins = diagnostics.margins();
+  log << "simulate: " << scene.steps - first_step << " steps of " << engine.particles().size()
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
   energy.flush();
   if (!scene.objects.empty()) object_log.flush();

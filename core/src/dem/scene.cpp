@@ -2,9 +2,10 @@
 // appears in a public header).
 #include "ppohdem/dem/scene.hpp"
 
-#include <toml++/toml.h>
+#include "toml_hardened.hpp"  // toml++, safe on malformed input (see there)
 
 #include <cmath>
+#include <cstdio>
 #include <algorithm>
 #include <initializer_list>
 #include <limits>
@@ -12,6 +13,7 @@
 #include <string_view>
 
 #include "ppohdem/dem/particle_csv.hpp"
+#include "ppohdem/io/legacy_inputs.hpp"
 #include "ppohdem/io/vtk_structured_points.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
@@ -28,13 +30,8 @@ class SceneParser {
   explicit SceneParser(fs::path file) : file_(std::move(file)), name_(file_.string()) {}
 
   Scene parse() {
-    toml::table root;
-    try {
-      root = toml::parse_file(name_);
-    } catch (const toml::parse_error& e) {
-      throw InputError(name_, e.source().begin.line, std::string(e.description()));
-    }
-    check_keys(root, "", {"simulation", "material", "contact", "particles", "wall", "object", "output"});
+    toml::table root = parse_toml();
+    check_keys(root, "", {"simulation", "material", "contact", "particles", "wall", "object", "output", "checks"});
     Scene scene;
     SimulationSetup& s = scene.setup;
     s.source = name_;
@@ -136,10 +133,68 @@ class SceneParser {
     } else {
       scene.output.dir = relative_to_scene("out");
     }
+
+    if (const toml::node* checks_node = root.get("checks")) {  // run_diagnostics.hpp
+      const toml::table* checks = checks_node->as_table();
+      if (!checks) fail(checks_node, "[checks] must be a table");
+      check_keys(*checks, "checks", {"max_overlap", "max_energy_growth", "stop_on_escape", "domain_min", "domain_max"});
+      RunChecks& c = scene.checks;
+      c.max_overlap = optional_number(*checks, "checks", "max_overlap").value_or(c.max_overlap);
+      if (!(c.max_overlap > 0.0)) fail(checks->get("max_overlap"), "[checks] max_overlap: expected > 0 (a fraction of the radius)");
+      c.max_energy_growth = optional_number(*checks, "checks", "max_energy_growth").value_or(c.max_energy_growth);
+      if (!(c.max_energy_growth > 0.0)) fail(checks->get("max_energy_growth"), "[checks] max_energy_growth: expected > 0");
+      c.stop_on_escape = optional_bool(*checks, "checks", "stop_on_escape").value_or(c.stop_on_escape);
+      c.domain_min = optional_vec3(*checks, "checks", "domain_min");
+      c.domain_max = optional_vec3(*checks, "checks", "domain_max");
+      if (c.domain_min.has_value() != c.domain_max.has_value() ||
+          (c.domain_min && !(c.domain_min->array() < c.domain_max->array()).all())) {
+        fail(checks, "[checks] domain_min and domain_max: expected both, with domain_min < domain_max");
+      }
+    }
     return scene;
   }
 
  private:
+  /// The file parsed by toml++, after the guards of toml_hardened.hpp: non-ASCII bytes are
+  /// refused outside comments, and a toml++ precondition failure becomes an InputError.
+  toml::table parse_toml() const {
+    const std::string text = read_file_bytes(file_);
+    const detail::NonAsciiByte bad = detail::first_non_ascii_outside_comments(text);
+    if (bad.line != 0) {
+      char byte[8];
+      std::snprintf(byte, sizeof byte, "0x%02X", bad.byte);
+      std::string what = "non-ASCII byte ";
+      what.append(byte).append(" at column ").append(std::to_string(bad.column))
+          .append(": scene files must be ASCII outside comments (keys, values, strings and file names)");
+      throw InputError(name_, bad.line, what);
+    }
+    try {
+      return toml::parse(text, name_);
+    } catch (const toml::parse_error& e) {
+      throw InputError(name_, e.source().begin.line, std::string(e.description()));
+    } catch (const detail::TomlInvariantViolation& e) {
+      throw InputError(name_, line_of_invariant_violation(text), e.what());
+    }
+  }
+
+  /// toml++ gives no position with a precondition failure: find the first line at which the
+  /// text up to and including that line fails the same way (error path only; scenes are small).
+  std::size_t line_of_invariant_violation(std::string_view text) const {
+    std::size_t line = 0;
+    for (std::size_t end = 0; end < text.size(); ++end) {
+      if (text[end] != '\n' && end + 1 != text.size()) continue;
+      ++line;
+      try {
+        (void)toml::parse(text.substr(0, end + 1), name_);
+      } catch (const detail::TomlInvariantViolation&) {
+        return line;
+      } catch (const toml::parse_error&) {
+        // an incomplete prefix may be malformed in an ordinary way: keep going
+      }
+    }
+    return 0;
+  }
+
   [[noreturn]] void fail(const toml::node* node, const std::string& what) const {
     throw InputError(name_, node ? static_cast<std::size_t>(node->source().begin.line) : 0, what);
   }

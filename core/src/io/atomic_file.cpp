@@ -1,5 +1,6 @@
 #include "ppohdem/io/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -35,11 +36,22 @@ AtomicFileWriter::~AtomicFileWriter() {
   }
 }
 
-void AtomicFileWriter::commit() {
+namespace {
+// fsync a file or directory by path (the ofstream has no descriptor to offer) [POSIX].
+bool sync_path(const std::filesystem::path& path, bool directory) {
+  const int fd = ::open(path.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0;
+  ::close(fd);
+  return ok;
+}
+}  // namespace
+
+void AtomicFileWriter::commit(bool sync_to_disk) {
   out_.flush();
   const bool ok = static_cast<bool>(out_);
   out_.close();
-  if (!ok || out_.fail()) {
+  if (!ok || out_.fail() || (sync_to_disk && !sync_path(temp_, false))) {
     throw InputError(target_.string(), 0, "write failed (disk full or I/O error); target left unchanged");
   }
   std::error_code ec;
@@ -48,6 +60,10 @@ void AtomicFileWriter::commit() {
     throw InputError(target_.string(), 0, "cannot rename temp file into place: " + ec.message());
   }
   committed_ = true;
+  if (sync_to_disk) {
+    const auto dir = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
+    sync_path(dir, true);  // the rename itself; best effort (some file systems refuse)
+  }
 }
 
 }  // namespace ppohdem

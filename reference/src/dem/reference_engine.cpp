@@ -1,5 +1,8 @@
 #include "ppohdem/reference/dem/reference_engine.hpp"
 
+#include <algorithm>
+#include <string>
+
 #include "force_passes.hpp"
 
 namespace ppohdem::reference::dem {
@@ -23,7 +26,8 @@ std::unique_ptr<ForcePass> make_boundary_pass(const Law& law, const ppohdem::dem
 }  // namespace
 
 ReferenceEngine::ReferenceEngine(const SimulationSetup& setup)
-    : particles_(setup.particles), dt_(setup.dt), gravity_(setup.gravity) {
+    : particles_(setup.particles), dt_(setup.dt), gravity_(setup.gravity),
+      boundary_count_(setup.boundaries.size()) {
   ppohdem::dem::validate_setup(setup);
   for (const Particle& p : particles_) {
     mass_.push_back(setup.material.mass(p.radius));
@@ -58,6 +62,7 @@ void ReferenceEngine::evaluate_forces(double history_dt) {
   elastic_ = context.elastic;
   dissipated_ += context.dissipated;
   boundary_work_ += context.boundary_work;
+  deepest_ = context.deepest.value_or(ppohdem::dem::LargestOverlap{});  // ratio 0: no contact
 }
 
 void ReferenceEngine::step() {
@@ -113,6 +118,58 @@ std::size_t ReferenceEngine::escaped_count() const {
 
 std::vector<ppohdem::dem::BoundaryLoad> ReferenceEngine::boundary_loads() const {
   return boundary_pass_ ? boundary_pass_->loads() : std::vector<ppohdem::dem::BoundaryLoad>{};
+}
+
+std::optional<ppohdem::dem::LargestOverlap> ReferenceEngine::largest_overlap() const { return deepest_; }
+
+EngineState ReferenceEngine::save_state() const {
+  EngineState state;
+  state.engine = name();
+  state.step = steps_;
+  state.dt = dt_;
+  state.particles = particles_;
+  state.accumulators = energies();
+  pair_pass_->save(state);  // pair histories first: contacts sorted by (kind, id_a, id_b)
+  if (boundary_pass_) boundary_pass_->save(state);
+  return state;
+}
+
+void ReferenceEngine::restore_state(const EngineState& state) {
+  // Refuse a state that does not belong to this setup, naming the first difference.
+  if (state.dt != dt_) {
+    throw InputError("checkpoint: dt " + std::to_string(state.dt) + " s, the scene has dt " +
+                     std::to_string(dt_) + " s");
+  }
+  if (state.particles.size() != particles_.size()) {
+    throw InputError("checkpoint: " + std::to_string(state.particles.size()) +
+                     " particles, the scene has " + std::to_string(particles_.size()));
+  }
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (state.particles[i].id != particles_[i].id || state.particles[i].radius != particles_[i].radius) {
+      throw InputError("checkpoint: particle " + std::to_string(i) + " has id " +
+                       std::to_string(state.particles[i].id) + ", the scene has id " +
+                       std::to_string(particles_[i].id) + " (or a different radius)");
+    }
+  }
+  if (state.boundary_loads.size() != boundary_count_) {
+    throw InputError("checkpoint: " + std::to_string(state.boundary_loads.size()) +
+                     " boundaries, the scene has " + std::to_string(boundary_count_));
+  }
+  pair_pass_->restore(state);
+  if (boundary_pass_) {
+    boundary_pass_->restore(state);
+  } else if (!state.escaped_ids.empty() ||
+             std::any_of(state.contacts.begin(), state.contacts.end(), [](const auto& r) {
+               return r.kind == ppohdem::dem::ContactHistoryRecord::Kind::kParticleBoundary;
+             })) {
+    throw InputError("checkpoint: boundary contacts or escaped particles, but the scene has no boundaries");
+  }
+  particles_ = state.particles;
+  steps_ = state.step;
+  elastic_ = state.accumulators.elastic;
+  dissipated_ = state.accumulators.dissipated;
+  boundary_work_ = state.accumulators.boundary_work;
+  deepest_ = ppohdem::dem::LargestOverlap{};  // of the evaluation before the checkpoint: not saved
 }
 
 }  // namespace ppohdem::reference::dem

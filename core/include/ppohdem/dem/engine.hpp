@@ -14,12 +14,16 @@
 /// with a = F/m + g, alpha = T/I. For constant acceleration this is exact (free fall).
 /// Contacts are evaluated in (id_i, id_j) order so results do not depend on storage order.
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "ppohdem/dem/contact_force.hpp"
 #include "ppohdem/dem/particle.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
+#include "ppohdem/error.hpp"
 
 namespace ppohdem::dem {
 
@@ -52,6 +56,56 @@ struct ContactCounts {
   std::size_t particle_boundary = 0;  ///< touching (particle, boundary) pairs
 };
 
+/// The history of one frictional contact, keyed by global identities so that the record does
+/// not depend on storage order or on the rank that owns the particles:
+///   particle pair:     (id_a, id_b) = (smaller particle id, larger particle id)
+///   particle-boundary: (id_a, id_b) = (particle id, index in SimulationSetup::boundaries)
+/// For a boundary contact spring.branch_j is zero. Frictionless contacts keep no history.
+struct ContactHistoryRecord {
+  enum class Kind : std::uint8_t { kParticlePair = 0, kParticleBoundary = 1 };
+  Kind kind = Kind::kParticlePair;
+  std::int64_t id_a = 0;
+  std::int64_t id_b = 0;
+  TangentialSpring spring;
+};
+
+/// Everything an engine needs to continue a run exactly (checkpoint/restart, checkpoint.hpp),
+/// in engine-neutral form. Contract:
+///   - restore_state(save_state()) on an engine built from the same SimulationSetup, followed
+///     by k steps, gives bitwise the same particles, energies, contact histories, loads and
+///     counts as k more steps of the saving engine;
+///   - particles in construction order (the order of particles()), whole system (an MPI
+///     engine gathers), with force and torque of the last force evaluation;
+///   - contacts sorted by (kind, id_a, id_b); escaped_ids sorted ascending.
+struct EngineState {
+  std::string engine;   ///< name() of the engine that saved it
+  long step = 0;        ///< step_count()
+  double dt = 0.0;      ///< time step [s] (restore refuses a different dt)
+  Particles particles;  ///< positions, velocities, force/torque of the last evaluation
+  std::vector<ContactHistoryRecord> contacts;
+  Energies accumulators;  ///< elastic of the last evaluation; cumulative dissipated and
+                          ///< boundary_work; kinetic, rotational, gravitational for checks
+  std::vector<std::int64_t> escaped_ids;  ///< particles that crossed a boundary so far
+  std::vector<BoundaryLoad> boundary_loads;  ///< boundary_loads() of the last evaluation
+  ContactCounts contact_counts;              ///< contact_counts() of the last evaluation
+  /// Power of the moving boundaries on the particles in the last evaluation without the
+  /// dashpots' share, P(n), for the trapezoid rule of boundary_work (contact_force.hpp
+  /// "Moving boundaries") [W]
+  double boundary_power = 0.0;
+  /// Engine-specific opaque bytes (e.g. an RNG state, a neighbour-list age); empty for the
+  /// reference engine, which consumes no random numbers while stepping.
+  std::vector<std::uint8_t> engine_private;
+};
+
+/// The deepest contact of the last force evaluation (run diagnostics, run.hpp).
+struct LargestOverlap {
+  double ratio = 0.0;      ///< overlap / smaller radius (boundary: / particle radius) [-]
+  double overlap = 0.0;    ///< delta [m]
+  std::int64_t id_a = 0;   ///< particle id
+  std::int64_t id_b = 0;   ///< other particle id, or boundary index
+  bool boundary = false;   ///< true: id_b is a boundary index
+};
+
 class DemEngine {
  public:
   virtual ~DemEngine() = default;
@@ -73,6 +127,20 @@ class DemEngine {
   /// Loads on each boundary (same order as SimulationSetup::boundaries) from the last force
   /// evaluation; empty if the engine does not provide them.
   virtual std::vector<BoundaryLoad> boundary_loads() const { return {}; }
+
+  /// Checkpoint/restart (EngineState above). Engines without support throw InputError.
+  virtual EngineState save_state() const {
+    throw InputError("engine '" + name() + "' does not support checkpoints (save_state)");
+  }
+  /// Continue from `state`; the engine must have been built from the same setup (same
+  /// particle ids in the same order, same boundaries, same dt): throws InputError otherwise.
+  virtual void restore_state(const EngineState& /*state*/) {
+    throw InputError("engine '" + name() + "' does not support checkpoints (restore_state)");
+  }
+  /// The deepest contact of the last force evaluation (ratio 0 if there is no contact), or
+  /// nothing if the engine does not report it (the run diagnostics then check particle pairs
+  /// themselves, by sort and sweep).
+  virtual std::optional<LargestOverlap> largest_overlap() const { return std::nullopt; }
 };
 
 /// How applications make an engine without knowing its library (apps pick by name).

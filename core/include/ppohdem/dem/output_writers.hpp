@@ -20,6 +20,7 @@
 ///                      [-, s, -, m x3, pose quaternion (object frame -> world), m x3, N x3,
 ///                      N m x3 about the current centroid, count of samples outside the grid]
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -54,6 +55,9 @@ class EnergyLog {
   EnergyLog(std::filesystem::path file, std::string header);
   void add(long step, double time, const Energies& energies);
   void flush() const;
+  /// The data rows so far (checkpoints carry them, so a restarted run rewrites the same file).
+  const std::vector<std::string>& rows() const { return rows_; }
+  void set_rows(std::vector<std::string> rows) { rows_ = std::move(rows); }
 
  private:
   std::filesystem::path file_;
@@ -65,10 +69,13 @@ class EnergyLog {
 class ObjectLog {
  public:
   ObjectLog(std::filesystem::path file, std::string header);
-  /// `object_index` is the position in Scene::objects (0-based), `load` its reaction.
+  /// `object_index` is the position in Scene::objects (0-based), `load` its reaction;
+  /// `outside_grid_offset` is added to the object's count (a restarted run continues it).
   void add(long step, double time, std::size_t object_index, const DistanceFieldObject& object,
-           const BoundaryLoad& load);
+           const BoundaryLoad& load, std::int64_t outside_grid_offset = 0);
   void flush() const;
+  const std::vector<std::string>& rows() const { return rows_; }
+  void set_rows(std::vector<std::string> rows) { rows_ = std::move(rows); }
 
  private:
   std::filesystem::path file_;

@@ -4,10 +4,23 @@
 ///   <dir>/final.csv always; <dir>/energy.csv with a row at step 0, every `every` steps (or
 ///   every steps/100 if every = 0) and at the end; frames at step 0 and every `every` steps
 ///   in the formats asked for. Progress on stderr (at most every 10% or 5 s) if asked.
+/// Steps are counted from the start of the scene (a restarted run continues the count), and
+/// the run ends at step scene.steps.
+/// Checkpoints (checkpoint.hpp): with checkpoint_every = N > 0, <dir>/checkpoint.bin is
+///   replaced atomically at every step that is a multiple of N and at the last step, after
+///   that step's outputs. A restart (RunOptions::restart) restores the engine, checks that the
+///   objects are where the checkpoint saw them, and continues energy.csv, objects.csv and the
+///   frame numbering, so a run to the same end step gives the same files (up to the header
+///   line) as an uninterrupted one. Stale temp files of killed runs in <dir> are removed.
+/// Diagnostics (run_diagnostics.hpp) after every step; a failed check writes the logs and
+///   <dir>/failed_checkpoint.bin and throws RunFailure.
+#include <memory>
 #include <ostream>
 #include <string>
 
+#include "ppohdem/dem/checkpoint.hpp"
 #include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/run_diagnostics.hpp"
 #include "ppohdem/dem/scene.hpp"
 
 namespace ppohdem::dem {
@@ -19,11 +32,27 @@ struct RunSummary {
   Energies final;
   std::size_t escaped = 0;
   std::size_t frames = 0;
+  CheckMargins margins;  ///< largest overlap and energy growth seen (run_diagnostics.hpp)
 };
+
+struct RunOptions {
+  long checkpoint_every = 0;  ///< steps between checkpoints; 0 = none
+  /// Continue from this checkpoint (read_checkpoint) instead of step 0.
+  std::shared_ptr<const Checkpoint> restart;
+  std::string scene_name;  ///< recorded in checkpoints (information)
+};
+
+/// File names in the output directory.
+inline constexpr const char* kCheckpointFile = "checkpoint.bin";
+inline constexpr const char* kFailedCheckpointFile = "failed_checkpoint.bin";
+
+/// Removes "<name>.tmp.<pid>.<n>" files (io/atomic_file.hpp) in `dir` whose process is gone;
+/// returns how many.
+std::size_t remove_stale_temp_files(const std::filesystem::path& dir);
 
 /// `header` is the run header written at the top of every output (provenance + engine).
 /// Creates output.dir if needed. `log` receives a one-line summary at the end.
 RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& header,
-                     std::ostream& log);
+                     std::ostream& log, const RunOptions& options = {});
 
 }  // namespace ppohdem::dem

@@ -23,6 +23,9 @@
 ///                (default never), name (default "object N")
 ///   [output]     dir (relative to the scene file), every (steps), formats = ["csv","vtk",
 ///                "pov"], progress = true (stderr)
+///   [checks]     run diagnostics (run_diagnostics.hpp): max_overlap [-] (default 0.1 of the
+///                radius), max_energy_growth [-] (default 0.05), stop_on_escape (default
+///                true), domain_min, domain_max [m] (optional box)
 /// Only [simulation], [material], [contact] and [particles] are required.
 #include <filesystem>
 #include <memory>
@@ -30,6 +33,7 @@
 #include <vector>
 
 #include "ppohdem/dem/distance_field_object.hpp"
+#include "ppohdem/dem/run_diagnostics.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
 
 namespace ppohdem::dem {
@@ -54,6 +58,7 @@ struct Scene {
   std::vector<SceneObject> objects;
   long steps = 0;
   OutputSpec output;
+  RunChecks checks;
 };
 
 /// Reads and checks a scene; throws InputError(file, line, ...) naming the key. Does not run

@@ -20,7 +20,10 @@ class AtomicFileWriter {
 
   std::ostream& stream() { return out_; }
   /// Flush, close, check for write errors, rename onto the target. Throws on failure.
-  void commit();
+  /// The rename is atomic for other processes and survives a crash or SIGKILL of this one.
+  /// With sync_to_disk the data are also fsync'ed before the rename and the directory after
+  /// it, so the new file survives a power loss or kernel crash too (checkpoints use it).
+  void commit(bool sync_to_disk = false);
 
  private:
   std::filesystem::path target_;

@@ -12,7 +12,14 @@
 ///   4. second half kick.
 /// Contact histories: std::map keyed by (id_i, id_j), id_i < id_j, and by (id, boundary
 /// index), the seed's contact_list and contact_list_wall.
+/// Checkpoints (save_state/restore_state, engine.hpp): the state between two steps is the
+/// particles (with force and torque of the last evaluation, needed by the next half kick), the
+/// step count, the energy accumulators, the passes' contact histories, escaped ids, loads and
+/// contact counts. The predicted velocities are recomputed at the start of every step, so
+/// they are not state. No random numbers are drawn while stepping.
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +29,7 @@ namespace ppohdem::reference::dem {
 
 using ppohdem::dem::ContactCounts;
 using ppohdem::dem::Energies;
+using ppohdem::dem::EngineState;
 using ppohdem::dem::Particles;
 using ppohdem::dem::SimulationSetup;
 
@@ -37,6 +45,14 @@ struct ForceContext {
   double elastic = 0.0;                 ///< stored energy summed by the passes [J]
   double dissipated = 0.0;              ///< energy removed in this evaluation [J]
   double boundary_work = 0.0;           ///< work done by moving boundaries [J]
+  std::optional<ppohdem::dem::LargestOverlap> deepest = std::nullopt;  ///< deepest contact so far
+
+  /// Record a contact's overlap delta [m] relative to `radius` [m] (the smaller radius).
+  void note_overlap(double overlap, double radius, std::int64_t id_a, std::int64_t id_b,
+                    bool boundary) {
+    const double ratio = overlap / radius;
+    if (!deepest || ratio > deepest->ratio) deepest = ppohdem::dem::LargestOverlap{ratio, overlap, id_a, id_b, boundary};
+  }
 };
 
 /// One kind of interaction (particle pairs, particle-boundary), made for one law.
@@ -49,6 +65,10 @@ class ForcePass {
   virtual std::size_t escaped() const { return 0; }
   /// Reaction on each boundary from the last add_forces (boundary passes only).
   virtual std::vector<ppohdem::dem::BoundaryLoad> loads() const { return {}; }
+  /// Checkpoints: append this pass's contact histories (sorted), escaped ids, loads and count
+  /// to `state`; restore them from it (throws InputError on records this pass cannot hold).
+  virtual void save(EngineState& state) const = 0;
+  virtual void restore(const EngineState& state) = 0;
 };
 
 class ReferenceEngine final : public ppohdem::dem::DemEngine {
@@ -69,6 +89,9 @@ class ReferenceEngine final : public ppohdem::dem::DemEngine {
   ContactCounts contact_counts() const override;
   std::size_t escaped_count() const override;
   std::vector<ppohdem::dem::BoundaryLoad> boundary_loads() const override;
+  EngineState save_state() const override;
+  void restore_state(const EngineState& state) override;
+  std::optional<ppohdem::dem::LargestOverlap> largest_overlap() const override;
 
  private:
   void evaluate_forces(double history_dt);
@@ -83,9 +106,11 @@ class ReferenceEngine final : public ppohdem::dem::DemEngine {
   long steps_ = 0;
   std::unique_ptr<ForcePass> pair_pass_;
   std::unique_ptr<ForcePass> boundary_pass_;  ///< null without boundaries
+  std::size_t boundary_count_ = 0;
   double elastic_ = 0.0;
   double dissipated_ = 0.0;
   double boundary_work_ = 0.0;
+  std::optional<ppohdem::dem::LargestOverlap> deepest_;  ///< of the last evaluation
 };
 
 }  // namespace ppohdem::reference::dem

@@ -1,0 +1,118 @@
+// Regression tests for fuzzing findings 4-6 (docs/reliability.md): malformed TOML that reached
+// internal preconditions of toml++ 3.3.0 (assert / __builtin_assume / __builtin_unreachable)
+// must be refused by read_scene with an InputError naming the file and the line, and nothing
+// else. The inputs are the reproducers the scene fuzz target replays on every run
+// (tests/fuzz/regressions/scene_toml/). Before the guards of core/src/dem/toml_hardened.hpp,
+// the first three aborted a build without NDEBUG and the last two were undefined behaviour in
+// every build.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iterator>
+#include <fstream>
+#include <string>
+
+#include "ppohdem/dem/scene.hpp"
+#include "ppohdem/error.hpp"
+#include "test_paths.hpp"
+
+namespace ppohdem {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+std::filesystem::path reproducer(const std::string& name) {
+  return std::filesystem::path(PPOHDEM_SOURCE_DIR) / "tests/fuzz/regressions/scene_toml" / name;
+}
+
+/// The message of the InputError read_scene throws for `file`; fails the test otherwise.
+std::string scene_error(const std::filesystem::path& file) {
+  try {
+    (void)dem::read_scene(file);
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected InputError, got another exception: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "expected InputError, the scene was accepted";
+  return {};
+}
+
+std::string located(const std::string& name, int line) {
+  return name + ":" + std::to_string(line) + ":";
+}
+
+TEST(SceneTomlGuards, TableHeaderThatCannotStartAKey) {
+  // `[#`: parse_key() asserted that a key starts here (finding 4).
+  EXPECT_THAT(scene_error(reproducer("tomlplusplus_parse_key_assert_1")),
+              AllOf(HasSubstr(located("tomlplusplus_parse_key_assert_1", 1)), HasSubstr("malformed TOML")));
+  // `[[[1]]]`: the same precondition through an array-of-tables header.
+  EXPECT_THAT(scene_error(reproducer("tomlplusplus_parse_key_assert_2")),
+              AllOf(HasSubstr(located("tomlplusplus_parse_key_assert_2", 1)), HasSubstr("malformed TOML")));
+}
+
+TEST(SceneTomlGuards, ArrayElementThatIsAValueTerminator) {
+  // `x = [0,}]`: parse_value() asserted that a value starts here (finding 6).
+  EXPECT_THAT(scene_error(reproducer("tomlplusplus_parse_value_assert_1")),
+              AllOf(HasSubstr(located("tomlplusplus_parse_value_assert_1", 1)), HasSubstr("malformed TOML")));
+}
+
+TEST(SceneTomlGuards, NonAsciiOutsideCommentsIsRefusedBeforeToml) {
+  // `x = [0.П]`: U+041F (bytes D0 9F) where toml++ tests for whitespace (finding 5); the
+  // first non-ASCII byte is the 8th character of line 1.
+  EXPECT_THAT(scene_error(reproducer("tomlplusplus_unreachable_whitespace_1")),
+              AllOf(HasSubstr(located("tomlplusplus_unreachable_whitespace_1", 1)), HasSubstr("0xD0"),
+                    HasSubstr("column 8")));
+  EXPECT_THAT(scene_error(reproducer("tomlplusplus_unreachable_whitespace_2")),
+              AllOf(HasSubstr(located("tomlplusplus_unreachable_whitespace_2", 1)), HasSubstr("0xCC"),
+                    HasSubstr("column 1")));
+}
+
+TEST(SceneTomlGuards, CampaignReproducersNameTheirLine) {
+  // Whole scenes mutated by the fuzzer. 10c5...: line 7 is `gravity = [0.0, 0.0, 0.П`, the
+  // П (D0 9F) being the 24th character; 7132...: line 2 starts with `[#`; e9e1...: line 14
+  // holds `0.0,}0.0}}}`.
+  EXPECT_THAT(scene_error(reproducer("crash-10c5c545bab567c498f488eb828c34c56a62a459")),
+              AllOf(HasSubstr(":7:"), HasSubstr("0xD0 at column 24")));
+  EXPECT_THAT(scene_error(reproducer("crash-7132d68625197e8e662c03b2d0afe5d21dfaaf61")),
+              AllOf(HasSubstr(":2:"), HasSubstr("malformed TOML")));
+  EXPECT_THAT(scene_error(reproducer("crash-e9e10f1b6891bc22df61d4f422173355563ed911")),
+              AllOf(HasSubstr(":14:"), HasSubstr("malformed TOML")));
+}
+
+/// two_spheres.toml (a valid scene) with `extra` appended, in a scratch directory next to its
+/// particle file; returns the scene's path.
+std::filesystem::path two_spheres_with(const std::string& extra) {
+  const auto dir = test::scratch_dir();
+  std::filesystem::copy_file(test::fixture("scenes/two_spheres.csv"), dir / "two_spheres.csv");
+  std::ifstream in(test::fixture("scenes/two_spheres.toml"), std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.append(extra);
+  const auto file = dir / "scene.toml";
+  std::ofstream(file, std::ios::binary) << text;
+  return file;
+}
+
+TEST(SceneTomlGuards, NonAsciiInCommentsIsAccepted) {
+  // The guard must not refuse what users write: units and names in comments.
+  const auto file = two_spheres_with("# radius 500 \xC2\xB5m, Poisson \xCE\xBD = 0.3\n");
+  const dem::Scene scene = dem::read_scene(file);
+  EXPECT_EQ(scene.setup.particles.size(), 2u);
+}
+
+TEST(SceneTomlGuards, HashInsideAStringDoesNotStartAComment) {
+  // `"a#\xC2\xB5"` is a string holding '#': the non-ASCII byte after it is in the string, not
+  // in a comment, so it is refused, on the second appended line.
+  const auto file = two_spheres_with("[extra]\nname = \"a#\xC2\xB5\"\n");
+  std::ifstream in(test::fixture("scenes/two_spheres.toml"), std::ios::binary);
+  const auto lines_before = std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n');
+  EXPECT_THAT(scene_error(file), AllOf(HasSubstr(located("scene.toml", static_cast<int>(lines_before) + 2)),
+                                       HasSubstr("0xC2"), HasSubstr("column 11")));
+}
+
+}  // namespace
+}  // namespace ppohdem
