@@ -1,17 +1,18 @@
 #pragma once
 // Shared helpers for the DEM tests: small scenes and impact measurements. The engine list for
-// the typed contract tests is here: add the optimized engine when it exists (STYLE habit 9).
+// the typed contract tests is here: every engine runs the same test bodies (STYLE habit 9).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
 
 #include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/reference/dem/reference_engine.hpp"
 
 namespace ppohdem::dem::test {
 
-using EngineTypes = ::testing::Types<ppohdem::reference::dem::ReferenceEngine>;
+using EngineTypes = ::testing::Types<ppohdem::reference::dem::ReferenceEngine, ppohdem::dem::fast::FastEngine>;
 
 /// Soft glass-like material of DESIGN.md's peer comparison.
 inline Material peer_material(double restitution, double friction) {

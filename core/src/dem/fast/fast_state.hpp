@@ -1,0 +1,125 @@
+#pragma once
+// The state of the fast engine (structure of arrays, cell-sorted) and its force kernel
+// interface. Private to core/src/dem/fast. Formulas: ppohdem/dem/contact_force.hpp; the
+// divergences from the reference engine are listed in ppohdem/dem/fast/fast_engine.hpp.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <tuple>
+#include <vector>
+
+#include "ppohdem/dem/contact_force.hpp"
+#include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/fast/fast_engine.hpp"
+
+#ifdef PPOHDEM_WITH_OPENMP
+#include <omp.h>
+#define PPOHDEM_OMP(x) _Pragma(#x)
+#else
+#define PPOHDEM_OMP(x)
+#endif
+
+namespace ppohdem::dem::fast {
+
+/// Below this many particles the loops run on one thread: a parallel region costs more than
+/// the work (results are the same either way).
+constexpr std::size_t kParallelMin = 1024;
+
+inline int max_threads() {
+#ifdef PPOHDEM_WITH_OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+inline int thread_id() {
+#ifdef PPOHDEM_WITH_OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+/// One particle-boundary contact of the last evaluation (sorted by (particle, boundary)).
+struct BoundaryRecord {
+  std::uint32_t particle = 0;  ///< storage (cell-sorted) index
+  std::uint32_t boundary = 0;  ///< index in SimulationSetup::boundaries
+  TangentialSpring spring;     ///< friction only
+  Vec3 force = Vec3::Zero();   ///< contact force on the particle [N]
+  Vec3 point = Vec3::Zero();   ///< contact point [m]
+};
+
+/// What one thread produced in a force evaluation (concatenated in thread order, which is
+/// storage order because the loops use schedule(static)).
+struct ThreadOutput {
+  std::vector<BoundaryRecord> records;
+  std::vector<std::uint32_t> newly_escaped;  ///< storage indices
+  std::optional<LargestOverlap> deepest;     ///< of this thread's contacts
+};
+
+/// Deterministic choice of the deeper contact: larger ratio, ties to the smaller
+/// (boundary, id_a, id_b), so the answer does not depend on the thread count.
+inline void keep_deeper(std::optional<LargestOverlap>& deepest, const LargestOverlap& c) {
+  if (!deepest || c.ratio > deepest->ratio ||
+      (c.ratio == deepest->ratio &&
+       std::tuple(c.boundary, c.id_a, c.id_b) < std::tuple(deepest->boundary, deepest->id_a, deepest->id_b))) {
+    deepest = c;
+  }
+}
+
+/// A planar wall, evaluated inline with PlaneWall's formulas (core/src/dem/plane_wall.cpp).
+struct WallData {
+  Vec3 point0 = Vec3::Zero();    ///< point at t = 0 [m]
+  Vec3 normal = Vec3::UnitZ();   ///< unit, into the domain
+  Vec3 velocity = Vec3::Zero();  ///< [m/s]
+  Vec3 point = Vec3::Zero();     ///< point at the current evaluation time [m]
+};
+
+struct FastState {
+  // --- per particle, storage order = cell order (permuted at every list build) ---
+  std::vector<std::int64_t> id;
+  std::vector<std::uint32_t> original;  ///< construction index (the seed's newtoorig)
+  std::vector<std::uint32_t> where;     ///< inverse: storage index of construction index o
+  std::vector<Vec3> x, v, w;            ///< position [m], v(n) or v(n+1/2) [m/s], omega [rad/s]
+  std::vector<Vec3> f, t;               ///< contact force [N], torque [N m] (last evaluation)
+  std::vector<Vec3> pv, pw;             ///< predicted v(n+1), omega(n+1) for the dashpots
+  std::vector<Vec3> x_build;            ///< position at the last list build [m]
+  std::vector<double> radius, mass, inertia;  ///< R [m], m [kg], I [kg m^2]
+  std::vector<std::int32_t> escaped_via;      ///< 0, or 1 + index of the boundary crossed first
+  std::vector<double> elastic_p, dissipated_p, work_p;  ///< per-particle energy terms [J]
+  std::vector<double> power_p;  ///< per-particle boundary power (F - F_d) . v_s [W]
+  // --- full neighbour list (CSR), each range sorted by the partner's id ---
+  std::vector<std::uint32_t> first;    ///< n + 1 offsets
+  std::vector<std::uint32_t> partner;  ///< storage index of the partner
+  std::vector<TangentialSpring> spring;  ///< friction only: this side's mirrored history
+  // --- boundary contacts of the last evaluation, sorted by (particle, boundary) ---
+  std::vector<BoundaryRecord> records;
+  std::vector<std::uint32_t> record_first;  ///< n + 1 offsets into records
+  std::vector<ThreadOutput> threads;
+  // --- scene ---
+  std::vector<WallData> walls;        ///< per boundary index (unused entries for others)
+  std::vector<bool> is_wall;          ///< per boundary index
+  BoundaryList boundaries;
+  double dt = 0.0;
+  Vec3 gravity = Vec3::Zero();
+  bool friction = false;
+  // --- results of the last evaluation ---
+  std::size_t pair_contacts = 0;
+  std::size_t boundary_contacts = 0;
+  std::optional<LargestOverlap> deepest;  ///< deepest contact of the last evaluation
+  std::size_t size() const { return id.size(); }
+};
+
+/// A force evaluation: contact forces and torques of every particle at time `time` with
+/// history increment interval `dt` (0 at start-up); fills f, t, the energy terms, the new
+/// boundary records and the counts.
+class ForceKernel {
+ public:
+  virtual ~ForceKernel() = default;
+  virtual void evaluate(FastState& s, double time, double dt) const = 0;
+};
+
+/// The kernel for the scene's law, friction and boundary kinds.
+std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup);
+
+}  // namespace ppohdem::dem::fast

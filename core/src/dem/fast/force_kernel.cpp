@@ -1,0 +1,264 @@
+// The fast engine's force kernel: one template per (law, friction, walls, other boundaries),
+// chosen once at construction (make_force_kernel). Each particle computes all of ITS contacts
+// from its own side (full neighbour list) in ascending order of the partner's id, then its
+// boundary contacts in boundary order: the order in which the reference engine adds them to
+// that particle (reference/src/dem/force_passes.hpp), with each contact bitwise the negation
+// of the reference's (i, j) evaluation when this particle is j. No thread writes another
+// particle's data, so the loop needs no atomics; per-particle results are independent of
+// the number of threads.
+#include <algorithm>
+#include <cstdio>
+#include <variant>
+
+#include "fast_state.hpp"
+#include "ppohdem/dem/material.hpp"
+
+namespace ppohdem::dem::fast {
+namespace {
+
+inline bool has_history(const TangentialSpring& s) {
+  return s.stiffness != 0.0 || s.branch_i.x() != 0.0 || s.branch_i.y() != 0.0 ||
+         s.branch_i.z() != 0.0 || s.displacement.x() != 0.0 || s.displacement.y() != 0.0 ||
+         s.displacement.z() != 0.0;
+}
+
+/// harmonic_pair (material.cpp) for finite values, inline: a b / (a + b), symmetric in a, b.
+inline double pair_value(double a, double b) { return a * b / (a + b); }
+
+template <class Law, bool kFriction, bool kWalls, bool kOthers>
+class Kernel final : public ForceKernel {
+ public:
+  explicit Kernel(Law law) : law_(std::move(law)) {}
+
+  // flatten: inline the contact law and contact_force.hpp into the loop (no change in the
+  // arithmetic: GCC does not reassociate or contract without -ffast-math / FMA targets).
+  [[gnu::flatten]] void evaluate(FastState& s, double time, double dt) const override {
+    const std::size_t n = s.size();
+    const std::size_t nb = s.boundaries.size();
+    if constexpr (kWalls) {
+      for (std::size_t b = 0; b < nb; ++b) {
+        if (s.is_wall[b]) s.walls[b].point = s.walls[b].point0 + s.walls[b].velocity * time;  // PlaneWall::point_at
+      }
+    }
+    const int threads = max_threads();
+    if (s.threads.size() < static_cast<std::size_t>(threads)) s.threads.resize(static_cast<std::size_t>(threads));
+    std::size_t pairs = 0;
+    std::size_t touching_boundaries = 0;
+    PPOHDEM_OMP(omp parallel reduction(+ : pairs, touching_boundaries) if (n >= kParallelMin))
+    {
+      ThreadOutput& out = s.threads[static_cast<std::size_t>(thread_id())];
+      out.records.clear();
+      out.newly_escaped.clear();
+      out.deepest.reset();
+      PPOHDEM_OMP(omp for schedule(static))
+      for (std::size_t i = 0; i < n; ++i) {
+        Vec3 force = Vec3::Zero();
+        Vec3 torque = Vec3::Zero();
+        double elastic = 0.0, dissipated = 0.0, work = 0.0, power = 0.0;
+        const Vec3 xi = s.x[i];
+        const double ri = s.radius[i];
+        const std::int64_t idi = s.id[i];
+        // --- particle pairs, ascending partner id ---
+        for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
+          const std::uint32_t j = s.partner[slot];
+          const Vec3 d = xi - s.x[j];  // from j to i
+          const double reach = ri + s.radius[j];
+          if (!(d.squaredNorm() < reach * reach)) {
+            if constexpr (kFriction) {
+              TangentialSpring& sp = s.spring[slot];
+              if (has_history(sp)) {  // the contact ended: its stored energy is lost
+                if (idi < s.id[j]) dissipated += sp.stored_energy();
+                sp = TangentialSpring{};
+              }
+            }
+            continue;
+          }
+          const double distance = d.norm();
+          ContactKinematics k;
+          k.normal = d / distance;
+          k.overlap = ri + s.radius[j] - distance;
+          const Vec3 r_i = -(ri - 0.5 * k.overlap) * k.normal;
+          const Vec3 r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
+          k.relative_velocity = (s.pv[i] + s.pw[i].cross(r_i)) - (s.pv[j] + s.pw[j].cross(r_j));
+          k.relative_displacement = dt * ((s.v[i] + s.w[i].cross(r_i)) - (s.v[j] + s.w[j].cross(r_j)));
+          k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
+          k.pair.r_eff = pair_value(ri, s.radius[j]);
+          ContactForce f;
+          if constexpr (kFriction) {
+            TangentialSpring& sp = s.spring[slot];
+            k.relative_displacement_previous_arms =
+                dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
+            f = frictional_contact_force(law_, k, sp, dt);
+            sp.branch_i = r_i;
+            sp.branch_j = r_j;
+          } else {
+            f = normal_contact_force(law_, k, dt);
+          }
+          force += f.on_i;
+          torque += r_i.cross(f.on_i);
+          if (idi < s.id[j]) {  // each pair's energy once, on its lower-id side
+            elastic += f.elastic_energy;
+            dissipated += f.dissipated;
+            ++pairs;
+            const double ratio = k.overlap / std::min(ri, s.radius[j]);
+            if (!out.deepest || ratio >= out.deepest->ratio) {
+              keep_deeper(out.deepest, LargestOverlap{ratio, k.overlap, idi, s.id[j], false});
+            }
+          }
+        }
+        // --- boundaries, in boundary order ---
+        if constexpr (kWalls || kOthers) {
+          std::uint32_t old = s.record_first[i];
+          const std::uint32_t old_end = s.record_first[i + 1];
+          for (std::size_t b = 0; b < nb; ++b) {
+            if constexpr (kFriction) {
+              for (; old < old_end && s.records[old].boundary < b; ++old) {
+                dissipated += s.records[old].spring.stored_energy();  // ended
+              }
+            }
+            BoundaryContact c;
+            bool escaped = false;
+            bool touching = false;
+            if (kWalls && s.is_wall[b]) {
+              const WallData& wall = s.walls[b];
+              const double distance = (xi - wall.point).dot(wall.normal);  // PlaneWall
+              if (distance <= 0.0) {
+                escaped = true;
+              } else if (distance < ri) {
+                touching = true;
+                c.normal = wall.normal;
+                c.overlap = ri - distance;
+                c.point = xi - distance * wall.normal;
+                c.surface_velocity = wall.velocity;
+              }
+            } else if constexpr (kOthers) {
+              const Boundary& boundary = *s.boundaries[b];
+              if (boundary.has_escaped(xi, time)) {
+                escaped = true;
+              } else if (const auto contact = boundary.contact(xi, ri, time)) {
+                touching = true;
+                c = *contact;
+              }
+            }
+            if (escaped) {
+              if (s.escaped_via[i] == 0) {
+                s.escaped_via[i] = static_cast<std::int32_t>(b + 1);
+                out.newly_escaped.push_back(static_cast<std::uint32_t>(i));
+              }
+              continue;
+            }
+            if (!touching) continue;
+            ++touching_boundaries;
+            if (!out.deepest || c.overlap / ri >= out.deepest->ratio) {
+              keep_deeper(out.deepest, LargestOverlap{c.overlap / ri, c.overlap, idi, static_cast<std::int64_t>(b), true});
+            }
+            ContactKinematics k;
+            k.normal = c.normal;
+            k.overlap = c.overlap;
+            const Vec3 r_a = c.point - xi;
+            k.relative_velocity = s.pv[i] + s.pw[i].cross(r_a) - c.surface_velocity;
+            k.pair.m_eff = s.mass[i];
+            k.pair.r_eff = ri;
+            BoundaryRecord record;
+            record.particle = static_cast<std::uint32_t>(i);
+            record.boundary = static_cast<std::uint32_t>(b);
+            ContactForce f;
+            if constexpr (kFriction) {
+              const bool continuing = old < old_end && s.records[old].boundary == b;
+              if (continuing) record.spring = s.records[old++].spring;
+              TangentialSpring& sp = record.spring;
+              // Trapezoid surface displacement (contact_force.hpp "Moving boundaries").
+              const Vec3 v_s = boundary_step_velocity(sp, continuing, c.surface_velocity);
+              k.relative_displacement = dt * (s.v[i] + s.w[i].cross(r_a) - v_s);
+              k.relative_displacement_previous_arms = dt * (s.v[i] + s.w[i].cross(sp.branch_i) - v_s);
+              f = frictional_contact_force(law_, k, sp, dt);
+              sp.branch_i = r_a;
+            } else {
+              f = normal_contact_force(law_, k, dt);
+            }
+            force += f.on_i;
+            torque += r_a.cross(f.on_i);
+            elastic += f.elastic_energy;
+            dissipated += f.dissipated;
+            // Boundary work: the dashpot's share now, the rest by the trapezoid rule of the
+            // power P = (F - F_d) . v_s (reduced in the engine) [J], [W].
+            work += f.dashpot.dot(c.surface_velocity) * dt;
+            power += (f.on_i - f.dashpot).dot(c.surface_velocity);
+            record.force = f.on_i;
+            record.point = c.point;
+            out.records.push_back(record);
+          }
+          if constexpr (kFriction) {
+            for (; old < old_end; ++old) dissipated += s.records[old].spring.stored_energy();
+          }
+        }
+        s.f[i] = force;
+        s.t[i] = torque;
+        s.elastic_p[i] = elastic;
+        s.dissipated_p[i] = dissipated;
+        s.work_p[i] = work;
+        s.power_p[i] = power;
+      }
+    }
+    s.pair_contacts = pairs;
+    s.boundary_contacts = touching_boundaries;
+    // New boundary records: the thread blocks in thread order are in storage order.
+    s.deepest.reset();
+    for (int th = 0; th < threads; ++th) {
+      if (const auto& d = s.threads[static_cast<std::size_t>(th)].deepest) keep_deeper(s.deepest, *d);
+    }
+    s.records.clear();
+    for (int th = 0; th < threads; ++th) {
+      const auto& r = s.threads[static_cast<std::size_t>(th)].records;
+      s.records.insert(s.records.end(), r.begin(), r.end());
+    }
+    s.record_first.assign(n + 1, 0);
+    for (const BoundaryRecord& r : s.records) ++s.record_first[r.particle + 1];
+    for (std::size_t i = 0; i < n; ++i) s.record_first[i + 1] += s.record_first[i];
+    for (int th = 0; th < threads; ++th) {
+      for (const std::uint32_t i : s.threads[static_cast<std::size_t>(th)].newly_escaped) {
+        const std::size_t b = static_cast<std::size_t>(s.escaped_via[i] - 1);
+        std::fprintf(stderr, "warning: particle id %lld left the domain through %s at t = %g s\n",
+                     static_cast<long long>(s.id[i]), s.boundaries[b]->describe().c_str(), time);
+      }
+    }
+  }
+
+ private:
+  Law law_;
+};
+
+template <class Law, bool kFriction, bool kWalls>
+std::unique_ptr<ForceKernel> with_others(const Law& law, bool others) {
+  if (others) return std::make_unique<Kernel<Law, kFriction, kWalls, true>>(law);
+  return std::make_unique<Kernel<Law, kFriction, kWalls, false>>(law);
+}
+
+template <class Law, bool kFriction>
+std::unique_ptr<ForceKernel> with_walls(const Law& law, bool walls, bool others) {
+  if (walls) return with_others<Law, kFriction, true>(law, others);
+  return with_others<Law, kFriction, false>(law, others);
+}
+
+}  // namespace
+
+std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup) {
+  bool walls = false;
+  bool others = false;
+  for (const auto& b : setup.boundaries) {
+    if (dynamic_cast<const PlaneWall*>(b.get())) {
+      walls = true;
+    } else {
+      others = true;
+    }
+  }
+  return std::visit(
+      [&](const auto& law) -> std::unique_ptr<ForceKernel> {
+        using Law = std::decay_t<decltype(law)>;
+        if (law.friction() > 0.0) return with_walls<Law, true>(law, walls, others);
+        return with_walls<Law, false>(law, walls, others);
+      },
+      setup.law);
+}
+
+}  // namespace ppohdem::dem::fast

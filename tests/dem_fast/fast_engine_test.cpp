@@ -1,0 +1,269 @@
+// The fast engine against its oracle, the reference engine (STYLE habits 9-11): the same scene
+// gives the same trajectories BIT FOR BIT (the fast engine sums each particle's contacts in the
+// reference's order and evaluates each contact as the exact negation of the reference's, see
+// ppohdem/dem/fast/fast_engine.hpp), for any thread count, across neighbour-list rebuilds
+// (history carried by id) and across checkpoints. The engine-neutral contract tests (impacts,
+// Chung & Ooi) run for both engines in tests/dem (EngineTypes).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "ppohdem/dem/distance_field_object.hpp"
+#include "ppohdem/dem/fast/fast_engine.hpp"
+#include "ppohdem/dem/particle_generator.hpp"
+#include "ppohdem/reference/dem/reference_engine.hpp"
+
+#ifdef PPOHDEM_WITH_OPENMP
+#include <omp.h>
+#endif
+
+namespace ppohdem::dem::test {
+namespace {
+
+using ppohdem::dem::fast::FastEngine;
+using ppohdem::reference::dem::ReferenceEngine;
+
+constexpr double kR = 0.5e-3;  // particle radius [m] (d = 1 mm, the standard scene)
+
+Material glass_like(double friction) {
+  Material m;
+  m.density = 2500.0;  // kg/m^3
+  m.young = 1.0e7;     // Pa
+  m.poisson = 0.3;
+  m.restitution = 0.5;
+  m.friction = friction;
+  return m;
+}
+
+enum class SceneKind {
+  kHertzFrictionWalls,          // Hertz-Mindlin, mu = 0.5, a walled box, gravity
+  kLinearFrictionWallsObject,   // linear, mu = 0.3, box with a moving lid, a spinning sphere object
+  kHertzFrictionlessFree,       // Hertz, mu = 0, no boundaries, no gravity
+};
+
+/// About 1,400 spheres on a jittered lattice (so the loops run on every thread: the kernels
+/// go parallel from 1,024 particles) with random velocities of up to 0.3 m/s per component and
+/// random spins, so that contacts form and break from the first steps and the neighbour list
+/// is rebuilt every ~10-20 steps.
+SimulationSetup scene(SceneKind kind) {
+  const double width = 14.0 * 2.0 * kR;  // [m]
+  SimulationSetup s;
+  s.material = glass_like(kind == SceneKind::kHertzFrictionlessFree ? 0.0 : (kind == SceneKind::kHertzFrictionWalls ? 0.5 : 0.3));
+  if (kind == SceneKind::kLinearFrictionWallsObject) {
+    s.law = LinearSpringDashpot::from_stiffness(50.0, s.material.restitution, s.material.friction);  // k_n [N/m]
+  } else {
+    s.law = HertzMindlin::from_material(s.material);
+  }
+  s.dt = 0.2 * rayleigh_time(kR, s.material);
+  if (kind != SceneKind::kHertzFrictionlessFree) s.gravity = Vec3(0.0, 0.0, -9.81);
+  GeneratorSpec g;
+  g.kind = GeneratorKind::kLattice;
+  g.box_min = Vec3::Zero();
+  g.box_max = Vec3(width, width, 2.0 * width);
+  g.count = 1500;
+  g.radius = kR;
+  g.jitter = 0.05;
+  g.seed = 7;
+  Particles p = generate_particles(g, "test");
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (Particle& q : p) {
+    q.velocity = 0.3 * Vec3(u(rng), u(rng), u(rng));            // [m/s]
+    q.angular_velocity = 300.0 * Vec3(u(rng), u(rng), u(rng));   // [rad/s]
+  }
+  if (kind != SceneKind::kHertzFrictionlessFree) {
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3::Zero(), Vec3(0, 0, 1)));
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3::Zero(), Vec3(1, 0, 0)));
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3(width, 0, 0), Vec3(-1, 0, 0)));
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3::Zero(), Vec3(0, 1, 0)));
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3(0, width, 0), Vec3(0, -1, 0)));
+  }
+  if (kind == SceneKind::kLinearFrictionWallsObject) {
+    // A lid coming down at 0.5 m/s from just above the top layer, and a sphere of radius
+    // 3 R spinning at 200 rad/s about z in the middle of the lattice (particles it would
+    // overlap are removed), given by its exact distance on a grid of spacing R/2.
+    double top = 0.0;
+    for (const Particle& q : p) top = std::max(top, q.position.z() + q.radius);
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3(0, 0, top + 0.1 * kR), Vec3(0, 0, -1), Vec3(0, 0, -0.5)));
+    const Vec3 centre(0.5 * width, 0.5 * width, 0.5 * top);
+    const double r_object = 3.0 * kR;
+    std::erase_if(p, [&](const Particle& q) { return (q.position - centre).norm() < r_object + q.radius + 0.05 * kR; });
+    GridSpec grid;
+    grid.spacing = Vec3::Constant(0.5 * kR);
+    grid.nodes = {29, 29, 29};
+    grid.origin = centre - Vec3::Constant(14.0 * 0.5 * kR);
+    ScalarField phi(grid);
+    for (int k = 0; k < 29; ++k)
+      for (int j = 0; j < 29; ++j)
+        for (int i = 0; i < 29; ++i) phi.values[grid.index(i, j, k)] = (grid.position(i, j, k) - centre).norm() - r_object;
+    RigidMotion motion;
+    motion.angular_velocity = Vec3(0, 0, 200.0);  // [rad/s]
+    motion.centroid = centre;
+    s.boundaries.push_back(std::make_shared<DistanceFieldObject>(std::move(phi), motion, "sphere"));
+  }
+  s.particles = p;
+  s.source = "fast_engine_test";
+  return s;
+}
+
+/// Asserts bitwise equality of every particle's state (construction order in both).
+void expect_same_bits(const Particles& a, const Particles& b, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].id, b[i].id);
+    const bool same = a[i].position == b[i].position && a[i].velocity == b[i].velocity &&
+                      a[i].angular_velocity == b[i].angular_velocity && a[i].force == b[i].force &&
+                      a[i].torque == b[i].torque;
+    if (!same && differing++ == 0) {
+      ADD_FAILURE() << what << ": particle id " << a[i].id << " differs, position difference "
+                    << (a[i].position - b[i].position).norm() << " m";
+    }
+  }
+  EXPECT_EQ(differing, 0u) << what;
+}
+
+class FastAgainstReference : public ::testing::TestWithParam<SceneKind> {};
+
+TEST_P(FastAgainstReference, TrajectoriesAreBitwiseTheSame) {
+  const SimulationSetup setup = scene(GetParam());
+  ReferenceEngine reference(setup);
+  FastEngine fast(setup);
+  expect_same_bits(reference.particles(), fast.particles(), "initial forces");
+  for (int block = 0; block < 4; ++block) {
+    reference.advance(100);
+    fast.advance(100);
+    expect_same_bits(reference.particles(), fast.particles(), "after " + std::to_string(reference.step_count()) + " steps");
+    EXPECT_EQ(reference.contact_counts().particle_pairs, fast.contact_counts().particle_pairs);
+    EXPECT_EQ(reference.contact_counts().particle_boundary, fast.contact_counts().particle_boundary);
+    EXPECT_EQ(reference.escaped_count(), fast.escaped_count());
+  }
+  // Not vacuous: many contacts, and the list was rebuilt often (histories carried over).
+  EXPECT_GT(fast.contact_counts().particle_pairs, 50u);  // measured 120-230 at the end
+  EXPECT_GT(fast.neighbour_list_builds(), 10);
+  if (!setup.boundaries.empty()) {
+    EXPECT_GT(fast.contact_counts().particle_boundary, 20u);
+  }
+
+  // Energies and loads are sums over particles in a different order (per particle, then in
+  // storage order, instead of one running sum over pairs): they differ by round-off only.
+  // A sum of n terms in two orders differs by at most ~n eps sum|terms|; here n ~ 1e4 terms
+  // per evaluation (contacts), eps = 2.2e-16 -> 2e-12 of the scale per evaluation, and the
+  // cumulative dissipated energy adds 400 such evaluations whose errors do not all align:
+  // bound 1e-10 of the scale (the kinetic energy of the start).
+  const Energies er = reference.energies();
+  const Energies ef = fast.energies();
+  const double scale = er.kinetic + er.rotational + er.elastic + er.dissipated;
+  EXPECT_NEAR(ef.kinetic, er.kinetic, 1e-12 * scale);  // same bits summed in another order
+  EXPECT_NEAR(ef.rotational, er.rotational, 1e-12 * scale);
+  EXPECT_NEAR(ef.elastic, er.elastic, 1e-12 * scale);
+  EXPECT_NEAR(ef.dissipated, er.dissipated, 1e-10 * scale);
+  EXPECT_NEAR(ef.boundary_work, er.boundary_work, 1e-10 * scale);
+  const auto lr = reference.boundary_loads();
+  const auto lf = fast.boundary_loads();
+  ASSERT_EQ(lr.size(), lf.size());
+  double weight = 0.0;  // [N], the scale of the loads
+  for (const Particle& p : reference.particles()) weight += setup.material.mass(p.radius) * 9.81;
+  for (std::size_t b = 0; b < lr.size(); ++b) {
+    // Sum of <= 1500 contact forces in another order: <= 1500 eps of the total, 1e-12 W.
+    EXPECT_LE((lr[b].force - lf[b].force).norm(), 1e-12 * weight) << "boundary " << b;
+    EXPECT_LE((lr[b].moment_about_origin - lf[b].moment_about_origin).norm(), 1e-12 * weight * 0.03) << "boundary " << b;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, FastAgainstReference,
+                         ::testing::Values(SceneKind::kHertzFrictionWalls, SceneKind::kLinearFrictionWallsObject,
+                                           SceneKind::kHertzFrictionlessFree),
+                         [](const auto& test_info) {
+                           switch (test_info.param) {
+                             case SceneKind::kHertzFrictionWalls: return std::string("HertzFrictionWalls");
+                             case SceneKind::kLinearFrictionWallsObject: return std::string("LinearFrictionWallsObject");
+                             default: return std::string("HertzFrictionlessFree");
+                           }
+                         });
+
+TEST(FastEngine, FinalStateIsBitwiseTheSameForOneAndTwoThreads) {
+#ifndef PPOHDEM_WITH_OPENMP
+  GTEST_SKIP() << "built without OpenMP (PPOHDEM_ENABLE_OPENMP=OFF)";
+#else
+  const SimulationSetup setup = scene(SceneKind::kLinearFrictionWallsObject);
+  const int before = omp_get_max_threads();
+  auto run = [&](int threads) {
+    omp_set_num_threads(threads);
+    FastEngine engine(setup);
+    engine.advance(300);
+    return std::pair(engine.particles(), engine.energies());
+  };
+  const auto one = run(1);
+  const auto two = run(2);
+  omp_set_num_threads(before);
+  expect_same_bits(one.first, two.first, "1 vs 2 threads");
+  // Energies are reduced per particle and then serially: the same bits too.
+  EXPECT_EQ(one.second.elastic, two.second.elastic);
+  EXPECT_EQ(one.second.dissipated, two.second.dissipated);
+  EXPECT_EQ(one.second.boundary_work, two.second.boundary_work);
+#endif
+}
+
+TEST(FastEngine, RestartFromItsCheckpointIsBitwise) {
+  const SimulationSetup setup = scene(SceneKind::kLinearFrictionWallsObject);
+  FastEngine straight(setup);
+  straight.advance(150);
+  const EngineState saved = straight.save_state();
+  EXPECT_FALSE(saved.contacts.empty());  // histories are part of the checkpoint
+  FastEngine restarted(setup);
+  restarted.restore_state(saved);
+  straight.advance(150);
+  restarted.advance(150);
+  expect_same_bits(straight.particles(), restarted.particles(), "restart");
+  EXPECT_EQ(straight.energies().dissipated, restarted.energies().dissipated);
+  EXPECT_EQ(straight.energies().elastic, restarted.energies().elastic);
+  EXPECT_EQ(straight.energies().boundary_work, restarted.energies().boundary_work);  // P(n) saved
+}
+
+TEST(FastEngine, ContinuesAReferenceCheckpointBitwise) {
+  // The checkpoint is engine-neutral (histories keyed by ids): the reference's state restored
+  // into the fast engine continues exactly as the reference does.
+  const SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls);
+  ReferenceEngine reference(setup);
+  reference.advance(120);
+  FastEngine fast(setup);
+  fast.restore_state(reference.save_state());
+  reference.advance(120);
+  fast.advance(120);
+  expect_same_bits(reference.particles(), fast.particles(), "reference checkpoint continued");
+}
+
+TEST(FastEngine, CheckpointEqualsTheReferencesCheckpoint) {
+  // Same scene, same step: the contact histories of both engines are the same records.
+  const SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls);
+  ReferenceEngine reference(setup);
+  FastEngine fast(setup);
+  reference.advance(200);
+  fast.advance(200);
+  const EngineState a = reference.save_state();
+  const EngineState b = fast.save_state();
+  ASSERT_EQ(a.contacts.size(), b.contacts.size());
+  for (std::size_t c = 0; c < a.contacts.size(); ++c) {
+    EXPECT_EQ(a.contacts[c].id_a, b.contacts[c].id_a);
+    EXPECT_EQ(a.contacts[c].id_b, b.contacts[c].id_b);
+    EXPECT_EQ(a.contacts[c].spring.displacement, b.contacts[c].spring.displacement);
+    EXPECT_EQ(a.contacts[c].spring.stiffness, b.contacts[c].spring.stiffness);
+    EXPECT_EQ(a.contacts[c].spring.branch_i, b.contacts[c].spring.branch_i);
+    EXPECT_EQ(a.contacts[c].spring.branch_j, b.contacts[c].spring.branch_j);
+  }
+  EXPECT_EQ(a.escaped_ids, b.escaped_ids);
+}
+
+TEST(FastEngine, RefusesACheckpointOfAnotherScene) {
+  SimulationSetup setup = scene(SceneKind::kHertzFrictionlessFree);
+  FastEngine engine(setup);
+  EngineState state = engine.save_state();
+  state.dt *= 2.0;
+  EXPECT_THROW(engine.restore_state(state), InputError);
+}
+
+}  // namespace
+}  // namespace ppohdem::dem::test
