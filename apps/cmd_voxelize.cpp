@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,7 @@ struct VoxelizeOptions {
   std::string placement_mode = "fit";
   std::string method = "fast";
   int threads = 0;                  // 0: OpenMP default
+  double band = 0.0;                // fast method: 0 = exact everywhere, W > 0 = exact within W h
   std::string precision = "double"; // fast method: double or float storage
   std::string out_vtk;
   int ranks = 1;
@@ -108,6 +110,8 @@ BuildResult build_field(const TriangleMesh& mesh, const GridSpec& grid, const Vo
     if (o.threads < 0) throw InputError("--threads must be >= 0 (0: all cores)");
     FastSdfOptions options;
     options.threads = o.threads;
+    if (!(o.band >= 0.0)) throw InputError("--band must be >= 0 cells (0: exact everywhere)");
+    options.band_cells = o.band;
     FastSdfBuilder builder(options);
     if (comm.rank() == 0) builder.set_progress(make_progress(grid.node_count(), o.quiet));
     if (o.precision == "float") {
@@ -120,6 +124,7 @@ BuildResult build_field(const TriangleMesh& mesh, const GridSpec& grid, const Vo
       r.field_bytes = r.field.values.size() * sizeof(double);
     }
   } else {
+    if (o.band != 0.0) throw InputError("--band applies to --method fast only");
     if (comm.size() > 1) throw InputError("--method " + o.method + " is serial: run it without mpirun, or use --method fast");
     auto builder = reference::make_reference_sdf_builder(o.method);
     builder->set_progress(make_progress(grid.node_count(), o.quiet));
@@ -129,6 +134,14 @@ BuildResult build_field(const TriangleMesh& mesh, const GridSpec& grid, const Vo
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.peak_bytes = static_cast<std::size_t>(comm.max_over_ranks(static_cast<double>(peak_resident_bytes())));
   return r;
+}
+
+// "fast", or "fast (exact within W h, transfer beyond)" in band mode.
+std::string method_label(const VoxelizeOptions& o) {
+  if (o.method != "fast" || o.band == 0.0) return o.method;
+  std::ostringstream label;
+  label << o.method << " (band " << o.band << " h: exact within, closest-triangle transfer beyond)";
+  return label.str();
 }
 
 // Warnings that do not depend on the builder: an open mesh, a mesh sticking out of the grid.
@@ -246,7 +259,7 @@ void run_legacy(const VoxelizeOptions& o, const Comm& comm) {
     write_vtk_structured_points(o.out_vtk, r.field, "distance", provenance_line(comm.size(), o.threads));
     outputs.push_back(o.out_vtk);
   }
-  print_summary(grid, mesh, r, o.method, outputs);
+  print_summary(grid, mesh, r, method_label(o), outputs);
 }
 
 void run_modern(const VoxelizeOptions& o, const Comm& comm) {
@@ -284,7 +297,7 @@ void run_modern(const VoxelizeOptions& o, const Comm& comm) {
   if (comm.rank() != 0) return;  // rank 0 holds the field and writes the files
   add_geometry_warnings(mesh, grid, stats, r.report);
   write_vtk_structured_points(out, r.field, "distance", provenance_line(comm.size(), o.threads));
-  print_summary(grid, mesh, r, o.method, {out.string()});
+  print_summary(grid, mesh, r, method_label(o), {out.string()});
 }
 
 }  // namespace
@@ -302,6 +315,8 @@ void register_voxelize(CLI::App& app, const Comm& comm) {
   cmd->add_option("--placement-mode", o->placement_mode, "fit (uniform, default), stretch (per axis) or original");
   cmd->add_option("--method", o->method, "fast (default; OpenMP + MPI), exact or seed (reference, serial)");
   cmd->add_option("--threads", o->threads, "fast: OpenMP threads per rank (0 = all cores)");
+  cmd->add_option("--band", o->band,
+                  "fast: exact within W cells of the surface, closest-triangle transfer beyond (0 = exact everywhere)");
   cmd->add_option("--precision", o->precision, "fast: field storage, double (default) or float (half the memory)");
   cmd->add_option("--out", o->out_vtk, "output legacy VTK file (modern form)");
   cmd->add_option("--vtk", o->out_vtk, "also write a VTK file (legacy form)");

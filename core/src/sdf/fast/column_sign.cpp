@@ -246,15 +246,20 @@ std::vector<std::string> ColumnSign::warnings() const {
 void ColumnSign::inside_on_line(int j, int k, std::vector<char>& inside) const {
   const int nx = grid_.nodes[0];
   inside.assign(static_cast<std::size_t>(nx), 0);
+  inside_on_segment(j, k, 0, nx, inside.data());
+}
+
+void ColumnSign::inside_on_segment(int j, int k, int i_begin, int i_end, char* inside) const {
+  const int nx = grid_.nodes[0];
   const double z = grid_.position(0, j, k).z();
-  for (int i = 0; i < nx; ++i) {
+  for (int i = i_begin; i < i_end; ++i) {
     const std::size_t column = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * static_cast<std::size_t>(j);
     const auto begin = crossings_.begin() + column_start_[column];
     const auto end = crossings_.begin() + column_start_[column + 1];
     // First crossing strictly above z (ties count as not above, as in the reference).
     const auto first_above = std::upper_bound(begin, end, z, [](double value, const Crossing& c) { return value < c.z; });
     if (!winding_) {
-      inside[static_cast<std::size_t>(i)] = (std::distance(first_above, end) % 2) == 1;
+      inside[i - i_begin] = (std::distance(first_above, end) % 2) == 1;
       continue;
     }
     const double integer_winding = first_above == end ? 0.0 : static_cast<double>(first_above->direction);
@@ -264,7 +269,7 @@ void ColumnSign::inside_on_line(int j, int k, std::vector<char>& inside) const {
       for (const Triangle& t : cone_) cone += solid_angle(p, t.v[0], t.v[1], t.v[2]);
       cone /= 4.0 * std::numbers::pi;
     }
-    inside[static_cast<std::size_t>(i)] = (integer_winding - cone) > 0.5;
+    inside[i - i_begin] = (integer_winding - cone) > 0.5;
   }
 }
 

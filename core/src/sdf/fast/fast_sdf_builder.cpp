@@ -5,11 +5,14 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <atomic>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 
 #include "ppohdem/error.hpp"
+#include "ppohdem/sdf/fast/brick_distance.hpp"
 #include "ppohdem/sdf/fast/column_sign.hpp"
 #include "ppohdem/sdf/fast/nearest_triangle.hpp"
 
@@ -63,51 +66,139 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
     throw InputError("fast SDF builder: output holds " + std::to_string(out.size()) + " values, the slab has " +
                      std::to_string(slab.node_count(grid)) + " nodes");
   }
-  const fast::TriangleTree tree(mesh);
-  const fast::ColumnSign sign(mesh, grid);
-
-  const int nx = grid.nodes[0];
-  const int ny = grid.nodes[1];
-  const long long lines = static_cast<long long>(ny) * (slab.k_end - slab.k_begin);
-  const std::size_t total_lines = static_cast<std::size_t>(lines);
-  std::atomic<std::size_t> lines_done{0};
-  std::size_t negatives = 0;
-  const std::size_t progress_step = std::max<std::size_t>(1, total_lines / 100);
-
-#if defined(PPOHDEM_WITH_OPENMP)
-  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
-#pragma omp parallel num_threads(threads) reduction(+ : negatives)
-#endif
-  {
-    std::vector<char> inside;
-    std::int64_t line_start_hint = -1;
-#if defined(PPOHDEM_WITH_OPENMP)
-#pragma omp for schedule(dynamic, 4)
-#endif
-    for (long long line = 0; line < lines; ++line) {
-      const int j = static_cast<int>(line % ny);
-      const int k = slab.k_begin + static_cast<int>(line / ny);
-      sign.inside_on_line(j, k, inside);
-      T* row = out.data() + static_cast<std::size_t>(line) * static_cast<std::size_t>(nx);
-      std::int64_t hint = line_start_hint;
-      for (int i = 0; i < nx; ++i) {
-        const fast::TriangleTree::Nearest nearest = tree.nearest(grid.position(i, j, k), hint);
-        hint = nearest.triangle;
-        if (i == 0) line_start_hint = hint;
-        const double distance = std::sqrt(nearest.squared_distance);
-        const double phi = inside[static_cast<std::size_t>(i)] ? -distance : distance;
-        row[i] = static_cast<T>(phi);
-        negatives += phi < 0.0 ? 1 : 0;
-      }
-      const std::size_t done = lines_done.fetch_add(1, std::memory_order_relaxed) + 1;
-      bool master = true;
-#if defined(PPOHDEM_WITH_OPENMP)
-      master = omp_get_thread_num() == 0;
-#endif
-      if (master && (done % progress_step == 0 || done == total_lines)) report_progress(done, total_lines);
-    }
+  if (!(options_.band_cells >= 0.0) || !std::isfinite(options_.band_cells)) {
+    throw InputError("fast SDF builder: band must be a finite number of cells >= 0 (0: exact everywhere), got " +
+                     std::to_string(options_.band_cells));
   }
-  report_progress(total_lines, total_lines);
+  const double coordinate_scale =
+      std::max(grid.origin.cwiseAbs().maxCoeff(), grid.upper_corner().cwiseAbs().maxCoeff());
+  const fast::TriangleTree tree(mesh, coordinate_scale);
+  const fast::ColumnSign sign(mesh, grid);
+  const bool band_mode = options_.band_cells > 0.0;
+  const double band = band_mode ? options_.band_cells * grid.spacing.maxCoeff() : std::numeric_limits<double>::infinity();
+  const fast::BrickDistance bricks(tree, grid, band, options_.shared_candidates);
+
+  // Bricks of kBrick^3 nodes on GLOBAL node indices (brick b covers [b kBrick, (b + 1) kBrick)),
+  // so a brick, its centre and (band mode) its transferred triangles do not depend on the slab.
+  constexpr int kBrick = 8;
+  const int nx = grid.nodes[0], ny = grid.nodes[1], nz = grid.nodes[2];
+  const int bx = (nx + kBrick - 1) / kBrick, by = (ny + kBrick - 1) / kBrick, bz = (nz + kBrick - 1) / kBrick;
+  const auto brick_box = [&](int bi, int bj, int bk) {
+    fast::NodeBox b;
+    const int idx[3] = {bi, bj, bk};
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = idx[a] * kBrick;
+      b.hi[a] = std::min((idx[a] + 1) * kBrick, grid.nodes[static_cast<std::size_t>(a)]);
+    }
+    return b;
+  };
+  std::size_t negatives = 0;
+  if (slab.k_end > slab.k_begin) {
+    const int bk_first = slab.k_begin / kBrick, bk_last = (slab.k_end - 1) / kBrick;
+    // Brick centres' nearest triangles (band mode: also one brick layer beyond the slab, whose
+    // triangles are transferred into the slab's outer bricks).
+    const int ck_first = band_mode ? std::max(0, bk_first - 1) : bk_first;
+    const int ck_last = band_mode ? std::min(bz - 1, bk_last + 1) : bk_last;
+    const int cz = ck_last - ck_first + 1;
+    std::vector<fast::TriangleTree::Nearest> centre(static_cast<std::size_t>(bx) * static_cast<std::size_t>(by) *
+                                                    static_cast<std::size_t>(cz));
+    const auto centre_at = [&](int bi, int bj, int bk) -> fast::TriangleTree::Nearest& {
+      return centre[static_cast<std::size_t>(bi) +
+                    static_cast<std::size_t>(bx) * (static_cast<std::size_t>(bj) +
+                                                     static_cast<std::size_t>(by) * static_cast<std::size_t>(bk - ck_first))];
+    };
+    const int threads = options_.threads;
+    const long long centre_rows = static_cast<long long>(by) * cz;
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads())
+#endif
+    for (long long row = 0; row < centre_rows; ++row) {
+      const int bj = static_cast<int>(row % by);
+      const int bk = ck_first + static_cast<int>(row / by);
+      std::int64_t hint = -1;
+      for (int bi = 0; bi < bx; ++bi) {
+        const fast::TriangleTree::Nearest n = tree.nearest(bricks.box_centre(brick_box(bi, bj, bk)), hint);
+        centre_at(bi, bj, bk) = n;
+        hint = n.triangle;
+      }
+    }
+    (void)threads;
+
+    const fast::NodeBox slab_box{{0, 0, slab.k_begin}, {nx, ny, slab.k_end}};
+    const long long brick_count = static_cast<long long>(bx) * by * (bk_last - bk_first + 1);
+    const std::size_t total = static_cast<std::size_t>(brick_count);
+    const std::size_t progress_step = std::max<std::size_t>(1, total / 100);
+    std::atomic<std::size_t> bricks_done{0};
+    const std::size_t plane = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp parallel num_threads(options_.threads > 0 ? options_.threads : omp_get_max_threads()) reduction(+ : negatives)
+#endif
+    {
+      fast::BrickDistance::Workspace ws;
+      std::vector<double> d2(static_cast<std::size_t>(kBrick * kBrick * kBrick));
+      std::vector<char> inside(static_cast<std::size_t>(kBrick));
+      std::vector<std::uint32_t> transfer;
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp for schedule(dynamic, 1)
+#endif
+      for (long long b = 0; b < brick_count; ++b) {
+        const int bi = static_cast<int>(b % bx);
+        const int bj = static_cast<int>((b / bx) % by);
+        const int bk = bk_first + static_cast<int>(b / (static_cast<long long>(bx) * by));
+        const fast::NodeBox brick = brick_box(bi, bj, bk);
+        transfer.clear();
+        if (band_mode) {
+          // The nearest triangles of the 27 brick centres around (and including) this brick.
+          for (int dk = -1; dk <= 1; ++dk) {
+            for (int dj = -1; dj <= 1; ++dj) {
+              for (int di = -1; di <= 1; ++di) {
+                const int i = bi + di, j = bj + dj, k = bk + dk;
+                if (i < 0 || j < 0 || k < 0 || i >= bx || j >= by || k >= bz) continue;
+                transfer.push_back(centre_at(i, j, k).triangle);
+              }
+            }
+          }
+          std::sort(transfer.begin(), transfer.end());
+          transfer.erase(std::unique(transfer.begin(), transfer.end()), transfer.end());
+        }
+        bricks.solve(brick, slab_box, centre_at(bi, bj, bk), transfer, ws, d2.data());
+        const fast::NodeBox nodes = brick.intersect(slab_box);
+        const int ex = brick.extent(0), ey = brick.extent(1);
+        for (int k = nodes.lo[2]; k < nodes.hi[2]; ++k) {
+          for (int j = nodes.lo[1]; j < nodes.hi[1]; ++j) {
+            sign.inside_on_segment(j, k, nodes.lo[0], nodes.hi[0], inside.data());
+            T* row = out.data() + static_cast<std::size_t>(k - slab.k_begin) * plane +
+                     static_cast<std::size_t>(j) * static_cast<std::size_t>(nx);
+            const double* src = d2.data() + static_cast<std::size_t>(((k - brick.lo[2]) * ey + (j - brick.lo[1])) * ex);
+            for (int i = nodes.lo[0]; i < nodes.hi[0]; ++i) {
+              const double distance = std::sqrt(src[i - brick.lo[0]]);
+              const double phi = inside[static_cast<std::size_t>(i - nodes.lo[0])] ? -distance : distance;
+              row[i] = static_cast<T>(phi);
+              negatives += phi < 0.0 ? 1 : 0;
+            }
+          }
+        }
+        const std::size_t done = bricks_done.fetch_add(1, std::memory_order_relaxed) + 1;
+        bool master = true;
+#if defined(PPOHDEM_WITH_OPENMP)
+        master = omp_get_thread_num() == 0;
+#endif
+        if (master && (done % progress_step == 0 || done == total)) report_progress(done, total);
+      }
+      if (options_.counters != nullptr) {
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp critical(ppohdem_fast_sdf_counters)
+#endif
+        {
+          options_.counters->exact_nodes += ws.counters.exact_nodes;
+          options_.counters->transferred_nodes += ws.counters.transferred_nodes;
+          options_.counters->candidate_tests += ws.counters.candidate_tests;
+          options_.counters->distance_evaluations += ws.counters.distance_evaluations;
+        }
+      }
+    }
+    report_progress(total, total);
+  }
   // The reduction of an integer count is exact: order does not matter.
   if (report != nullptr) {
     const auto w = sign.warnings();

@@ -93,7 +93,7 @@ double squared_distance(const Vec3& p, const PreparedTriangle& t) {
   return std::min(on_face, edges_squared_distance(p, t));
 }
 
-TriangleTree::TriangleTree(const TriangleMesh& mesh) {
+TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale) {
   const std::size_t n = mesh.size();
   std::vector<Vec3> centroid(n);
   std::vector<std::uint32_t> order(n);
@@ -107,7 +107,8 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh) {
   // Pruning slack: the closest-point arithmetic above works on coordinates of magnitude <= S and
   // makes absolute errors of a few tens of eps S; 1e-12 S (~4500 eps S) is far above that and
   // far below any grid spacing worth computing.
-  slack_ = 1e-12 * std::max(scale, 1e-300);
+  // Query points far from the mesh round at their own scale: the larger of the two counts.
+  slack_ = 1e-12 * std::max({scale, std::abs(coordinate_scale), 1e-300});
   nodes_.reserve(2 * n / kLeafSize + 2);
   if (n > 0) build(order, centroid, mesh.triangles, 0, static_cast<std::uint32_t>(n));
   triangles_.reserve(n);
@@ -168,10 +169,24 @@ double TriangleTree::box_squared_distance(const double lo[3], const double hi[3]
   }
   return d2;
 }
+double TriangleTree::diagonal(const Node& n) {
+  const double dx = n.hi[0] - n.lo[0], dy = n.hi[1] - n.lo[1], dz = n.hi[2] - n.lo[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
 
 TriangleTree::Nearest TriangleTree::nearest(const Vec3& p, std::int64_t hint) const {
   Nearest best;
   if (nodes_.empty()) return best;
+  if (hint >= 0) {
+    const auto t = static_cast<std::uint32_t>(hint);
+    best.squared_distance = squared_distance(p, triangles_[t]);
+    best.triangle = t;
+  }
+  refine_in_subtree(p, 0, best);
+  return best;
+}
+
+void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest& best) const {
   // prune_bound = (sqrt(best) + slack)^2: boxes farther than that cannot hold a triangle whose
   // computed distance is <= best (see the header).
   double prune_bound = std::numeric_limits<double>::infinity();
@@ -183,9 +198,9 @@ TriangleTree::Nearest TriangleTree::nearest(const Vec3& p, std::int64_t hint) co
       prune_bound = r * r;
     }
   };
-  if (hint >= 0) {
-    const auto t = static_cast<std::uint32_t>(hint);
-    improve(squared_distance(p, triangles_[t]), t);
+  if (std::isfinite(best.squared_distance)) {
+    const double r = std::sqrt(best.squared_distance) + slack_;
+    prune_bound = r * r;
   }
   struct Pending {
     std::uint32_t node;
@@ -193,8 +208,8 @@ TriangleTree::Nearest TriangleTree::nearest(const Vec3& p, std::int64_t hint) co
   };
   Pending stack[128];
   int top = 0;
-  std::uint32_t current = 0;
-  if (box_squared_distance(nodes_[0].lo, nodes_[0].hi, p) > prune_bound) return best;
+  std::uint32_t current = root;
+  if (box_squared_distance(nodes_[root].lo, nodes_[root].hi, p) > prune_bound) return;
   for (;;) {
     const Node& node = nodes_[current];
     if (node.count > 0) {
@@ -231,7 +246,36 @@ TriangleTree::Nearest TriangleTree::nearest(const Vec3& p, std::int64_t hint) co
     }
     if (!found) break;
   }
-  return best;
+}
+
+void TriangleTree::collect_near_box(const double lo[3], const double hi[3], double bound_squared,
+                                    std::vector<std::uint32_t>& out) const {
+  if (nodes_.empty()) return;
+  const auto box_box = [&](const double blo[3], const double bhi[3]) {
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      const double gap = std::max({blo[a] - hi[a], lo[a] - bhi[a], 0.0});
+      d2 += gap * gap;
+    }
+    return d2;
+  };
+  std::uint32_t stack[128];
+  int top = 0;
+  if (box_box(nodes_[0].lo, nodes_[0].hi) > bound_squared) return;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (node.count > 0) {
+      for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
+        if (box_box(triangles_[s].lo, triangles_[s].hi) <= bound_squared) out.push_back(s);
+      }
+      continue;
+    }
+    const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    const std::uint32_t right = node.first;
+    if (box_box(nodes_[right].lo, nodes_[right].hi) <= bound_squared) stack[top++] = right;
+    if (box_box(nodes_[left].lo, nodes_[left].hi) <= bound_squared) stack[top++] = left;
+  }
 }
 
 std::size_t TriangleTree::memory_bytes() const {

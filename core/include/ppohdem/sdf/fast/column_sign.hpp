@@ -55,6 +55,8 @@ class ColumnSign {
 
   /// inside[i] for the nodes (i, j, k), i = 0..nx-1 (one x-line).
   void inside_on_line(int j, int k, std::vector<char>& inside) const;
+  /// inside[i - i_begin] for the nodes (i, j, k), i = i_begin..i_end-1 (part of an x-line).
+  void inside_on_segment(int j, int k, int i_begin, int i_end, char* inside) const;
 
   std::size_t memory_bytes() const;
 

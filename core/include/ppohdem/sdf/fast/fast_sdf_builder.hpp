@@ -1,17 +1,20 @@
 #pragma once
 /// \file fast_sdf_builder.hpp
-/// The optimized SDF builder ("fast"): exact everywhere, OpenMP over x-lines of nodes, MPI over
-/// z-slabs. Same contract and convention as reference::ExactSdfBuilder:
+/// The optimized SDF builder ("fast"): exact everywhere (or, in band mode, exact in a band and
+/// an upper bound by closest-triangle transfer outside), OpenMP over bricks of 8^3 nodes, MPI
+/// over z-slabs. Same contract and convention as reference::ExactSdfBuilder:
 ///   phi(x) = s(x) min_t |x - closest_point(x, t)|   [m],  s = -1 inside, +1 outside.
 ///
 /// How (see docs/performance.md, SDF section):
-///  - distance: a flat BVH over the triangles (nearest_triangle.hpp); each node's query starts
-///    from the nearest triangle of the previous node on its x-line, whose distance is an upper
-///    bound that is usually already the answer, so the search only has to prove it;
+///  - distance: bricks of 8^3 nodes share their search (brick_distance.hpp): one BVH traversal
+///    collects the triangles that can be nearest to any node of the brick (Lipschitz bound from
+///    the brick centre's exact distance), halved boxes filter them further, each node takes the
+///    minimum over its box's few candidates;
 ///  - sign: crossings of the z-columns (column_sign.hpp): exact parity for closed meshes, the
 ///    cone-closed winding number for open ones;
-///  - determinism: every node's value is a pure function of the node and the mesh (the BVH's
-///    pruning is conservative, see nearest_triangle.hpp), lines are independent, nothing is
+///  - determinism: every node's value is a pure function of the node and the mesh (the
+///    pruning is conservative, see brick_distance.hpp; band mode: of the node's global brick),
+///    bricks are independent, nothing is
 ///    reduced across threads or ranks: the field is bitwise the same for any thread count,
 ///    any slab split and any number of MPI ranks.
 #include <cstddef>
@@ -27,8 +30,27 @@ namespace ppohdem {
 
 enum class FieldPrecision { float64, float32 };
 
+/// Work counters of the fast builder (summed over threads; for profiling and the docs).
+struct FastSdfCounters {
+  std::size_t exact_nodes = 0;           ///< nodes given the exact minimum over all triangles
+  std::size_t transferred_nodes = 0;     ///< band mode: nodes outside the band (transferred triangles)
+  std::size_t candidate_tests = 0;       ///< bounding-box tests in the per-node candidate scans
+  std::size_t distance_evaluations = 0;  ///< exact point-triangle distances
+};
+
 struct FastSdfOptions {
   int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default (OMP_NUM_THREADS or all cores)
+  /// Band mode: 0 (default) = exact everywhere. W > 0: exact wherever |phi| <= W h_max
+  /// (h_max the largest spacing); farther nodes get the exact distance to the nearest of a few
+  /// triangles transferred from the surrounding brick centres (an upper bound; the sign is exact
+  /// everywhere). See brick_distance.hpp and docs/performance.md for the measured error.
+  double band_cells = 0.0;
+  /// Exact nodes by the shared-candidate scheme of brick_distance.hpp instead of one BVH query per
+  /// node. Same field bit for bit (both are the exact minimum); slower on the meshes measured
+  /// (docs/performance.md), kept as the documented alternative and tested for equality.
+  bool shared_candidates = false;
+  /// If not null, the build adds its work counters here (not synchronized across builds).
+  FastSdfCounters* counters = nullptr;
 };
 
 /// A z-slab of nodes: k in [k_begin, k_end), all i and j.

@@ -45,7 +45,19 @@ class TriangleTree {
  public:
   static constexpr int kLeafSize = 4;  ///< triangles per leaf at most
 
-  explicit TriangleTree(const TriangleMesh& mesh);
+  /// `coordinate_scale` [m]: the largest coordinate magnitude of the query points (e.g. the
+  /// grid's corners), so the pruning slack also covers the rounding of far-away queries.
+  explicit TriangleTree(const TriangleMesh& mesh, double coordinate_scale = 0.0);
+
+  /// A BVH node, depth-first order (the root is 0).
+  struct Node {
+    double lo[3];
+    double hi[3];
+    std::uint32_t first = 0;   ///< leaf: first triangle; internal: index of the right child
+    std::uint32_t count = 0;   ///< leaf: triangle count (> 0); internal: 0 (left child = this + 1)
+  };
+  /// Diagonal of a node's box [m] (how coarse a cluster of triangles it is).
+  static double diagonal(const Node& n);
 
   struct Nearest {
     double squared_distance = std::numeric_limits<double>::infinity();
@@ -55,17 +67,26 @@ class TriangleTree {
   /// only speeds the search up; the result does not depend on it.
   Nearest nearest(const Vec3& p, std::int64_t hint = -1) const;
 
+  /// Appends to `out` the index (into triangles()) of every triangle whose own bounding box is
+  /// within sqrt(bound_squared) of the box [lo, hi] (box-to-box distance, computed in double;
+  /// callers add the slack). One traversal for a whole block of query points.
+  void collect_near_box(const double lo[3], const double hi[3], double bound_squared,
+                        std::vector<std::uint32_t>& out) const;
+
+  /// Absolute slack [m] that covers the rounding of one computed point-triangle or box distance
+  /// (1e-12 x the coordinate scale of the mesh and of the queries).
+  double slack() const { return slack_; }
+
+  /// Lowers `best` to the nearest triangle of the subtree rooted at `node` if one is nearer (the
+  /// same conservative pruning as nearest()); `best` is the caller's running minimum.
+  void refine_in_subtree(const Vec3& p, std::uint32_t node, Nearest& best) const;
+
   const std::vector<PreparedTriangle>& triangles() const { return triangles_; }
+  const std::vector<Node>& nodes() const { return nodes_; }
   std::size_t node_count() const { return nodes_.size(); }
   std::size_t memory_bytes() const;
 
  private:
-  struct Node {
-    double lo[3];
-    double hi[3];
-    std::uint32_t first = 0;   ///< leaf: first triangle; internal: index of the right child
-    std::uint32_t count = 0;   ///< leaf: triangle count (> 0); internal: 0 (left child = this + 1)
-  };
   std::uint32_t build(std::vector<std::uint32_t>& order, const std::vector<Vec3>& centroid,
                       const std::vector<Triangle>& input, std::uint32_t begin, std::uint32_t end);
   static double box_squared_distance(const double lo[3], const double hi[3], const Vec3& p);

@@ -1,0 +1,122 @@
+#pragma once
+/// \file brick_distance.hpp
+/// Unsigned distances for a block ("brick") of grid nodes: exact, and (band mode) the
+/// closest-triangle transfer outside a band.
+///
+/// Exact part (every node gets min_t |x - closest_point(x, t)|^2 over ALL triangles t, as
+/// computed by squared_distance(), whatever the brick, thread or rank). Two interchangeable
+/// ways, both tested to give the same field bit for bit:
+///  - default: one BVH query per node (TriangleTree::nearest), started from the previous node's
+///    nearest triangle (the first node from the brick centre's), conservative pruning;
+///  - shared candidates (FastSdfOptions::shared_candidates): for a box of nodes with centre c
+///    and half-diagonal r, and d(c) the exact distance at c, every point x of the box has
+///    d(x) <= d(c) + |x - c| <= U = d(c) + r (Lipschitz, |grad d| <= 1). A triangle whose bounding
+///    box is farther than U from the box cannot be the nearest of any node of the box, so the
+///    candidates C(box) = {t : dist(box, bbox(t)) <= U} contain every node's nearest triangle.
+///    They come from one BVH traversal per brick, as clusters (BVH nodes) no larger than 4 r;
+///    the box is halved along each axis (8^3 -> 4^3 -> 2^3 nodes); a child's centre distance is
+///    the minimum over the parent's candidates (exact, since the child centre lies in the parent
+///    box) and its candidates are filtered out of the parent's; the nodes of a 2^3 box scan its
+///    candidate triangles (vectorized bounding-box test, exact distance where it can win).
+///    Measured (docs/performance.md): MORE instructions per node than the per-node queries,
+///    because the candidate shell of a box of half-diagonal r is ~2r thick, so it is not the
+///    default.
+///  Rounding: every bound carries the tree's slack (1e-12 x the coordinate scale, thousands of
+///  times the rounding of one distance), so the pruning is conservative and the result is the
+///  same minimum as a brute-force loop over all triangles.
+///
+/// Band part (band mode only, band_distance finite): the brick (8^3) and then its halves are
+///   tested with the exact distance at their centre: a box with d(c) - r > band cannot hold a
+///   node with d <= band (Lipschitz). Its nodes take the minimum of the exact distance to a few
+///   "transferred" triangles: the nearest triangles of the centres of the 27 bricks around (and
+///   including) the node's brick and of the box itself; the box is halved down to 2^3 nodes
+///   while more than one triangle survives the filter "bounding box within min_t dist(c, t) + r
+///   of the box" (which keeps every triangle that can be the set's minimum at some node, so the
+///   halving changes no value, only the work). The value is the distance to a real triangle, so
+///   never below the truth, and at most d(x) + 2 r above it (the box centre's own triangle is in
+///   the set: dist(x, t_c) <= d(c) + |x - c| <= d(x) + 2 |x - c|). Everything depends only on
+///   the brick's global position: thread and rank invariant as the exact part.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "ppohdem/grid/grid_spec.hpp"
+#include "ppohdem/sdf/fast/nearest_triangle.hpp"
+
+namespace ppohdem::fast {
+
+/// A block of nodes: i in [lo[0], hi[0]), j in [lo[1], hi[1]), k in [lo[2], hi[2]) (global indices).
+struct NodeBox {
+  int lo[3] = {0, 0, 0};
+  int hi[3] = {0, 0, 0};
+  int extent(int a) const { return hi[a] - lo[a]; }
+  std::size_t count() const {
+    return static_cast<std::size_t>(extent(0)) * static_cast<std::size_t>(extent(1)) *
+           static_cast<std::size_t>(extent(2));
+  }
+  bool empty() const { return extent(0) <= 0 || extent(1) <= 0 || extent(2) <= 0; }
+  NodeBox intersect(const NodeBox& o) const;
+};
+
+/// Counters for profiling and the documentation (summed over bricks by the caller).
+struct BrickCounters {
+  std::size_t exact_nodes = 0;        ///< nodes given the exact minimum
+  std::size_t transferred_nodes = 0;  ///< band mode: nodes given a transferred triangle's distance
+  std::size_t candidate_tests = 0;    ///< bounding-box tests in the per-node scans
+  std::size_t distance_evaluations = 0;  ///< exact point-triangle distances evaluated
+};
+
+class BrickDistance {
+ public:
+  /// `band_distance` [m]: +infinity for exact everywhere, else the band half-width.
+  /// `shared_candidates`: exact nodes by the shared-candidate scheme (true) or by one warm-started
+  /// BVH query per node (false, the default: fewer instructions on the meshes measured).
+  BrickDistance(const TriangleTree& tree, const GridSpec& grid, double band_distance, bool shared_candidates = false);
+
+  /// Scratch space of one thread (reused between bricks: no allocation in the steady state).
+  struct Workspace {
+    struct Candidates {
+      std::vector<std::uint32_t> index;  ///< BVH nodes (clusters of triangles), or triangles
+      bool triangles = false;            ///< index holds triangles (into tree.triangles())
+      std::vector<double> lo[3], hi[3];
+      void clear();
+      void push(std::uint32_t id, const double box_lo[3], const double box_hi[3]);
+      std::size_t size() const { return index.size(); }
+    };
+    std::vector<Candidates> level;
+    std::vector<double> box_d2;
+    std::vector<std::uint32_t> transfer;
+    std::vector<std::vector<std::uint32_t>> transfer_level;
+    NodeBox brick, clip;  ///< the brick being solved (offsets into d2) and the nodes to compute
+    BrickCounters counters;
+  };
+
+  /// Squared distances of the nodes of `brick` that lie in `clip` into `d2`, indexed
+  /// x fastest over the brick's own extents ((k - lo) ey + (j - lo)) ex + (i - lo); other
+  /// entries are untouched. `centre` is the nearest triangle (exact) of the brick's centre,
+  /// brick_centre(brick). `transfer`: band mode's triangles for boxes outside the band
+  /// (ignored in exact mode).
+  void solve(const NodeBox& brick, const NodeBox& clip, TriangleTree::Nearest centre,
+             std::span<const std::uint32_t> transfer, Workspace& ws, double* d2) const;
+
+  /// World position of the centre of a box of nodes [m].
+  Vec3 box_centre(const NodeBox& box) const;
+
+ private:
+  void solve_box(const NodeBox& box, int depth, const Workspace::Candidates* parent, TriangleTree::Nearest centre,
+                 Workspace& ws, double* d2) const;
+  TriangleTree::Nearest scan(const Workspace::Candidates& c, const Vec3& p, std::uint32_t hint, Workspace& ws) const;
+  void transfer_box(const NodeBox& box, std::uint32_t extra, Workspace& ws, double* d2) const;
+  void transfer_rec(const NodeBox& box, int depth, const std::vector<std::uint32_t>& set, Workspace& ws,
+                    double* d2) const;
+  double half_diagonal(const NodeBox& box) const;
+
+  const TriangleTree& tree_;
+  GridSpec grid_;
+  double band_ = 0.0;
+  double slack_ = 0.0;
+  bool shared_ = false;
+};
+
+}  // namespace ppohdem::fast
