@@ -1,12 +1,17 @@
 // `ppohdem simulate`: run a DEM scene.
 //
-//   ppohdem simulate SCENE.toml [--engine reference] [--force] [--quiet]
+//   ppohdem simulate SCENE.toml [--engine reference|fast|optimized] [--force] [--quiet]
 //       Reads the TOML scene (ppohdem/dem/scene.hpp), runs it with the chosen engine and writes
 //       final.csv, energy.csv and frames into the scene's [output] dir.
 //   ppohdem simulate input_params_update.dat [--data-length L] [--steps N | --time-finish T]
 //       The seed's sample_main01 (dem/legacy_scene.hpp), recognised by the first label
 //       `Lx_Ly_Lz:` or forced with --legacy; run in the directory holding the distance files.
+//   ppohdem simulate --compat ppohdem-1.0 input_params_update.dat [--initial STATE] [--steps N]
+//       The original program number for number (cmd_simulate_compat.cpp, docs/compat.md §2).
 // --steps / --time-finish override the end of any scene (short test runs).
+//   --checkpoint-every N   write <dir>/checkpoint.bin every N steps and at the end
+//   --restart FILE         continue from a checkpoint to the scene's (or --steps') end step
+// (docs/reliability.md; a run that fails a check exits 1 with a diagnosis).
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -17,6 +22,7 @@
 
 #include "commands.hpp"
 #include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/legacy_scene.hpp"
 #include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
@@ -25,6 +31,10 @@
 #include "ppohdem/reference/dem/reference_engine.hpp"
 
 namespace ppohdem::app {
+
+// apps/cmd_simulate_compat.cpp: `--compat ppohdem-1.0` (the original sample, number for number).
+void run_simulate_compat(const std::string& mode, const std::string& params_file,
+                         const std::optional<std::string>& initial, std::optional<long> steps, bool quiet);
 namespace {
 
 struct SimulateOptions {
@@ -36,11 +46,17 @@ struct SimulateOptions {
   std::optional<long> steps;          // overrides the scene's step count
   std::optional<double> time_finish;  // [s], overrides it as round(T / dt) steps
   std::optional<double> data_length;  // legacy: L of the distance data [m]
+  std::string compat;                 // "ppohdem-1.0": the original program (cmd_simulate_compat.cpp)
+  std::optional<std::string> initial; // compat: initial state file
+  long checkpoint_every = 0;          // steps between checkpoints (0: none)
+  std::string restart;                // checkpoint file to continue from
 };
 
 const std::map<std::string, dem::EngineFactory>& engines() {
   static const std::map<std::string, dem::EngineFactory> table{
-      {"reference", &reference::dem::ReferenceEngine::make}};
+      {"reference", &reference::dem::ReferenceEngine::make},
+      {"fast", &dem::fast::FastEngine::make},
+      {"optimized", &dem::fast::FastEngine::make}};
   return table;
 }
 
@@ -55,7 +71,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   if (options.quiet) scene.output.progress = false;
   const auto factory = engines().find(options.engine);
   if (factory == engines().end()) {
-    throw InputError("--engine: expected 'reference', got '" + options.engine + "'");
+    throw InputError("--engine: expected 'reference', 'fast' or 'optimized', got '" + options.engine + "'");
   }
   const dem::TimeStepLimit limit = dem::time_step_limit(scene.setup);
   auto engine = factory->second(scene.setup);  // validates (dt, overlaps, ...)
@@ -67,7 +83,14 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   if (scene.setup.dt > limit.limit) {
     std::fprintf(stderr, "warning: dt is above the stability limit (--force)\n");
   }
-  const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr);
+  dem::RunOptions run_options;
+  if (options.checkpoint_every < 0) throw InputError("--checkpoint-every: expected >= 0 steps");
+  run_options.checkpoint_every = options.checkpoint_every;
+  run_options.scene_name = options.input;
+  if (!options.restart.empty()) {
+    run_options.restart = std::make_shared<const dem::Checkpoint>(dem::read_checkpoint(options.restart));
+  }
+  const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
   const double e0 = s.initial.total();
   const double e1 = s.final.total();
   std::printf("steps %ld, time %.6g s, wall %.3f s\n", s.steps, engine->time(), s.wall_seconds);
@@ -83,6 +106,9 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   for (const dem::SceneObject& o : scene.objects) {
     std::printf("%s: %zu samples outside its grid\n", o.object->describe().c_str(), o.object->outside_grid_count());
   }
+  std::printf("checks: largest overlap %.3g %% of the radius (limit %.3g %%), largest energy growth "
+              "%.3g %% (limit %.3g %%)\n", 100.0 * s.margins.overlap, 100.0 * scene.checks.max_overlap,
+              100.0 * s.margins.energy_growth, 100.0 * scene.checks.max_energy_growth);
   std::printf("wrote %s (final.csv, energy.csv, %zu frames)\n", scene.output.dir.string().c_str(),
               s.frames);
 }
@@ -101,6 +127,11 @@ bool looks_like_legacy_input(const std::string& path) {
 }
 
 void run_input(const SimulateOptions& options) {
+  if (!options.compat.empty()) {
+    run_simulate_compat(options.compat, options.input, options.initial, options.steps, options.quiet);
+    return;
+  }
+  if (options.initial) throw InputError("--initial applies to --compat ppohdem-1.0 only");
   if (options.legacy || looks_like_legacy_input(options.input)) {
     dem::LegacySceneOptions legacy;
     legacy.data_length = options.data_length;
@@ -117,14 +148,22 @@ void register_simulate(CLI::App& app) {
   auto options = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "run a DEM scene (TOML) and write its outputs");
   cmd->add_option("scene", options->input, "scene file (TOML)")->required();
-  cmd->add_option("--engine", options->engine, "engine: reference")->capture_default_str();
+  cmd->add_option("--engine", options->engine, "engine: reference, fast (alias optimized)")->capture_default_str();
   cmd->add_flag("--force", options->force, "run even if dt is above the stability limit");
   cmd->add_flag("--quiet", options->quiet, "no progress lines on stderr");
   cmd->add_flag("--legacy", options->legacy, "read the input as a legacy input_params_update.dat");
   cmd->add_option("--steps", options->steps, "run this many steps instead of the scene's");
   cmd->add_option("--time-finish", options->time_finish, "run to this time [s] instead of the scene's end");
+  cmd->add_option("--checkpoint-every", options->checkpoint_every,
+                  "write <output dir>/checkpoint.bin every N steps and at the end");
+  cmd->add_option("--restart", options->restart, "continue from this checkpoint file");
   cmd->add_option("--data-length", options->data_length,
                   "legacy: length L [m] of the distance data (default: from input_constants_voxelizer.dat)");
+  cmd->add_option("--compat", options->compat,
+                  "ppohdem-1.0: run input_params_update.dat as the original program does, number for number "
+                  "(docs/compat.md); run where distance_NNNN.dat and object_mesh.stl are");
+  cmd->add_option("--initial", options->initial,
+                  "compat: initial state, the original's full-precision dump (e.g. state_step000000.dat)");
   cmd->callback([options] { run_input(*options); });
 }
 

@@ -9,4 +9,10 @@ namespace ppohdem::app {
 void register_mesh_info(CLI::App& app);
 void register_voxelize(CLI::App& app, const ppohdem::Comm& comm);
 void register_simulate(CLI::App& app);
+void register_validate(CLI::App& app);
+
+/// Thrown by a command that ends with a given exit status (not an error message).
+struct ExitStatus {
+  int code;
+};
 }  // namespace ppohdem::app

@@ -17,10 +17,13 @@ int main(int argc, char** argv) {
   ppohdem::app::register_mesh_info(app);
   ppohdem::app::register_voxelize(app, comm_environment.world());
   ppohdem::app::register_simulate(app);
+  ppohdem::app::register_validate(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const ppohdem::app::ExitStatus& e) {
+    return e.code;
   } catch (const ppohdem::InputError& e) {
     std::fprintf(stderr, "ppohdem: error: %s\n", e.what());
     return 2;

@@ -14,7 +14,15 @@ PACKAGES=(
   libtomlplusplus-dev libcli11-dev   # scene files, command line
   python3-matplotlib python3-numpy   # plots in docs/ (system python: /usr/bin/python3)
   liblzma-dev xz-utils               # the original program's outputs, stored as .xz fixtures
+  zlib1g-dev                         # CRC-32 of checkpoint files (core/src/dem/checkpoint.cpp)
+  yade                               # YADE 2023.02a: `ppohdem validate --live` reruns the YADE
+                                     # reference scenes (validation/yade; ~1 min to install here)
+  python3-scipy                      # validation/peers/crosscheck.py (k-d tree)
 )
+# The other peer DEM codes only for the benchmark (ci/bench-dem.sh calls `install-deps.sh --peers`).
+if [ "${1:-}" = "--peers" ]; then
+  PACKAGES+=(liggghts lammps)
+fi
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,176 @@
+#!/usr/bin/env bash
+# The issue-7 DEM benchmark against the peers: the standard settling-bed scene
+# (validation/peers/make_bench.py: d = 1 mm, 2500 kg/m^3, E = 1e7 Pa, nu = 0.3, measured e = 0.5,
+# mu = 0.5, Hertz-Mindlin with history, gravity, lattice at 1.05 d in a walled box,
+# dt = 20% of the Rayleigh time) run by ppohdem (every engine `ppohdem simulate --engine`
+# offers) and by LIGGGHTS, LAMMPS (GRANULAR) and YADE, each on 1 and 2 cores, in this one script.
+#
+#   bash ci/bench-dem.sh [--quick] [--build-dir DIR] [--out DIR] [--codes "ours liggghts lammps yade"]
+#                        [--sizes "N:STEPS ..."]
+#
+#   --quick   10,000 particles, 1,000 steps (CI; < 10 min on the 2-core VM)
+#   default   10,000 particles x 2,000 steps and 100,000 particles x 300 steps (< 30 min)
+# Peers missing from PATH are skipped (install: apt-get install liggghts lammps yade).
+#
+# Per run it prints: particle-steps per second (time loop only: LAMMPS/LIGGGHTS "Loop time",
+# YADE's O.run, ppohdem's "wall"), the same from CPU time (user + sys of all processes: less
+# sensitive to other jobs on a shared machine), peak memory per particle (sum over ranks of
+# /usr/bin/time -v "Maximum resident set size" / N; includes each code's fixed overhead:
+# Python for YADE, MPI for all), and the physics cross-check of the final state
+# (validation/peers/crosscheck.py, one code for all: kinetic energy, mean height,
+# max overlap / d, particle contacts per particle) so we know the codes solved the same problem.
+# A markdown table is written to OUT/results.md (default build-bench-dem/results.md) with the
+# date, the machine load (uptime) and the command. 2 cores: 2 MPI ranks for LIGGGHTS and LAMMPS,
+# 2 OpenMP threads for YADE (it has no MPI in Debian), and for ppohdem 2 threads
+# (OMP_NUM_THREADS) and, when the engine runs under MPI, 2 ranks.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+QUICK=0
+BUILD_DIR=${BUILD_DIR:-build}
+OUT=""
+CODES="ours liggghts lammps yade"
+SIZES_ARG=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) QUICK=1 ;;
+    --build-dir) BUILD_DIR=$2; shift ;;
+    --out) OUT=$2; shift ;;
+    --codes) CODES=$2; shift ;;
+    --sizes) SIZES_ARG=$2; shift ;;
+    *) echo "bench-dem: unknown argument $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+OUT=${OUT:-$ROOT/build-bench-dem}
+mkdir -p "$OUT"
+OUT=$(cd "$OUT" && pwd)
+PY=/usr/bin/python3
+# The peers (Debian liggghts, lammps, yade; ~1 min to install here) only for this script.
+bash ci/install-deps.sh --peers >&2
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+MPIRUN=(mpirun --oversubscribe --bind-to none -np 2)
+
+PPOHDEM="$ROOT/$BUILD_DIR/apps/ppohdem"
+if [[ " $CODES " == *" ours "* ]] && [ ! -x "$PPOHDEM" ]; then
+  echo "bench-dem: building ppohdem in $BUILD_DIR" >&2
+  BUILD_DIR=$BUILD_DIR bash ci/build.sh >/dev/null
+fi
+# ppohdem engines: every name `ppohdem simulate --help` lists after "engine:".
+ENGINES=()
+if [[ " $CODES " == *" ours "* ]]; then
+  help=$("$PPOHDEM" simulate --help 2>&1 || true)
+  for e in reference fast; do
+    if grep -qE "engine:.*\b$e\b" <<<"$help"; then ENGINES+=("$e"); fi
+  done
+fi
+
+if [ "$QUICK" -eq 1 ]; then SIZES=("10000:1000"); else SIZES=("10000:2000" "100000:300"); fi
+if [ -n "$SIZES_ARG" ]; then read -r -a SIZES <<<"$SIZES_ARG"; fi
+RESULTS="$OUT/results.tsv"
+printf 'code\tN\tcores\tsteps\tloop_s\tpsteps_per_s\tcpu_psteps_per_s\tpeak_rss_MB\tbytes_per_particle\tcrosscheck\n' >"$RESULTS"
+
+# peak RSS [kB] summed over the mem.* files of a run (one per process)
+sum_rss() { cat "$1"/mem.* 2>/dev/null | awk -F': ' '/Maximum resident set size/ {s += $2} END {print s + 0}'; }
+# user + sys seconds summed over the mem.* files
+sum_cpu() { cat "$1"/mem.* 2>/dev/null | awk -F': ' '/User time|System time/ {s += $2} END {print s + 0}'; }
+
+record() {  # code N cores steps loop_seconds rundir finalfile
+  local code=$1 n=$2 cores=$3 steps=$4 loop=$5 dir=$6 final=$7
+  local rss cpu cross pps cpps
+  rss=$(sum_rss "$dir"); cpu=$(sum_cpu "$dir")
+  cross=$($PY "$ROOT/validation/peers/crosscheck.py" "$final" 2>/dev/null | tail -1 || true)
+  [ -n "$cross" ] || cross="crosscheck failed ($final)"
+  pps=$(awk -v n="$n" -v s="$steps" -v t="$loop" 'BEGIN {printf "%.3g", (t > 0 ? n * s / t : 0)}')
+  cpps=$(awk -v n="$n" -v s="$steps" -v t="$cpu" 'BEGIN {printf "%.3g", (t > 0 ? n * s / t : 0)}')
+  printf '%s\t%s\t%s\t%s\t%.3f\t%s\t%s\t%.1f\t%.0f\t%s\n' "$code" "$n" "$cores" "$steps" "$loop" "$pps" "$cpps" \
+    "$(awk -v r="$rss" 'BEGIN {print r / 1024}')" "$(awk -v r="$rss" -v n="$n" 'BEGIN {print r * 1024 / n}')" \
+    "$cross" | tee -a "$RESULTS"
+}
+
+TIMEV='/usr/bin/time -v -o mem.$$'   # one file per process (pid), expanded inside sh -c
+
+run_peer() {  # code N steps cores case_dir
+  local code=$1 n=$2 steps=$3 cores=$4 case_dir=$5
+  local dir="$case_dir/$code-$cores" L loop
+  rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
+  L=$(cut -d' ' -f1 "$case_dir/box.txt")
+  case "$code" in
+    lammps|liggghts)
+      local exe=lmp deck="$ROOT/validation/peers/lammps/in.bench" extra=(-nocite)
+      if [ "$code" = liggghts ]; then exe=liggghts; deck="$ROOT/validation/peers/liggghts/in.bench"; extra=(); fi
+      local cmd="$TIMEV $exe -in $deck -var data $case_dir/particles.data -var steps $steps -var L $L -var out final.dump -log log.txt ${extra[*]}"
+      if [ "$cores" -eq 1 ]; then sh -c "$cmd" >out.txt 2>&1; else "${MPIRUN[@]}" sh -c "$cmd" >out.txt 2>&1; fi
+      loop=$(grep -m1 -oE 'Loop time of [0-9.eE+-]+' out.txt | awk '{print $4}')
+      record "$code" "$n" "$cores" "$steps" "${loop:-0}" "$dir" final.dump ;;
+    yade)
+      sh -c "$TIMEV yade -n -j $cores -x $ROOT/validation/peers/yade/bench.py $case_dir/particles.csv $steps $L final.csv" >out.txt 2>&1
+      loop=$(grep -oE 'loop_seconds [0-9.]+' out.txt | awk '{print $2}')
+      record "yade" "$n" "$cores" "$steps" "${loop:-0}" "$dir" final.csv ;;
+  esac
+  cd "$ROOT"
+}
+
+run_ours() {  # engine N steps case_dir
+  local engine=$1 n=$2 steps=$3 case_dir=$4 cores mode dir loop
+  for cores in 1 2; do
+    for mode in threads ranks; do
+      [ "$cores" -eq 1 ] && [ "$mode" = ranks ] && continue
+      dir="$case_dir/ppohdem-$engine-$cores-$mode"
+      rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
+      sed "s|^file = \"particles.csv\"|file = \"$case_dir/particles.csv\"|; s|^dir = \"ours_out\"|dir = \"$dir/out\"|" \
+        "$case_dir/scene.toml" >scene.toml
+      local cmd="$TIMEV $PPOHDEM simulate scene.toml --engine $engine --quiet"
+      local ok=0
+      if [ "$mode" = threads ]; then
+        OMP_NUM_THREADS=$cores sh -c "$cmd" >out.txt 2>&1 && ok=1
+      else
+        OMP_NUM_THREADS=1 "${MPIRUN[@]}" sh -c "$cmd" >out.txt 2>&1 && ok=1
+      fi
+      loop=$(grep -oE 'wall [0-9.]+ s' out.txt | head -1 | awk '{print $2}')
+      # Under mpirun, an engine without MPI runs two independent copies: its run header then
+      # says "ranks 1" and the run is not a 2-rank result.
+      if [ "$mode" = ranks ] && ! grep -q 'ranks 2' out.txt; then
+        printf 'ppohdem-%s (ranks)\t%s\t2\t%s\tnot run: the engine does not use MPI (header says ranks 1)\n' \
+          "$engine" "$n" "$steps" | tee -a "$RESULTS"
+        cd "$ROOT"; continue
+      fi
+      if [ "$ok" -eq 1 ] && [ -n "$loop" ]; then
+        record "ppohdem-$engine ($mode)" "$n" "$cores" "$steps" "$loop" "$dir" "$dir/out/final.csv"
+      else
+        printf 'ppohdem-%s (%s)\t%s\t%s\t%s\tfailed: see %s/out.txt\n' "$engine" "$mode" "$n" "$cores" "$steps" "$dir" | tee -a "$RESULTS"
+      fi
+      cd "$ROOT"
+    done
+  done
+}
+
+LOAD_START=$(uptime)
+for spec in "${SIZES[@]}"; do
+  n=${spec%%:*}; steps=${spec##*:}
+  case_dir="$OUT/n$n"
+  mkdir -p "$case_dir"
+  $PY validation/peers/make_bench.py "$n" "$steps" "$case_dir"
+  echo "bench-dem: N = $n, $steps steps (dt = 8.65e-6 s), load: $(uptime)" >&2
+  for code in $CODES; do
+    case "$code" in
+      ours) for e in "${ENGINES[@]}"; do run_ours "$e" "$n" "$steps" "$case_dir"; done ;;
+      liggghts|lammps|yade)
+        exe=$code; [ "$code" = lammps ] && exe=lmp
+        if ! command -v "$exe" >/dev/null 2>&1; then echo "bench-dem: $exe not installed, skipped" >&2; continue; fi
+        run_peer "$code" "$n" "$steps" 1 "$case_dir"
+        run_peer "$code" "$n" "$steps" 2 "$case_dir" ;;
+    esac
+  done
+done
+
+{
+  echo "Measured $(date -u '+%Y-%m-%d %H:%M UTC') on $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')),"
+  echo "command: \`bash ci/bench-dem.sh$([ "$QUICK" -eq 1 ] && echo ' --quick')\`; load at start: ${LOAD_START##*load average: }, at end: $(uptime | sed 's/.*load average: //')."
+  echo
+  echo "| code | N | cores | steps | loop [s] | particle-steps/s (wall) | particle-steps/s (CPU) | peak RSS [MB] | bytes/particle | final state: KE [J], mean z [m], max overlap/d, contacts/particle |"
+  echo "|---|---|---|---|---|---|---|---|---|---|"
+  tail -n +2 "$RESULTS" | awk -F'\t' 'NF >= 10 {printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10} NF < 10 {gsub("\t", " | "); print "| " $0 " |"}'
+} >"$OUT/results.md"
+echo "bench-dem: wrote $OUT/results.md" >&2
+cat "$OUT/results.md"
