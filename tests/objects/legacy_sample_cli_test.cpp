@@ -15,26 +15,14 @@
 
 #include "../apps/cli_runner.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
+#include "csv_rows.hpp"
 #include "test_paths.hpp"
 
 namespace ppohdem::dem {
 namespace {
 namespace fs = std::filesystem;
 
-std::vector<std::vector<double>> numeric_rows(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == 's') continue;  // comments, header
-    std::vector<double> row;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
-}
+using test::numeric_csv_rows;
 
 /// The sample folder copied into a scratch directory; the mesh path (relative in the fixture)
 /// made absolute so it still resolves there.
@@ -69,7 +57,7 @@ TEST(SeedSample, VoxelizeThenSimulateRunsKeepsParticlesInTheBoxAndMovesTheObject
   // Energy balance as for TOML scenes: total = K + R + G + E + D - W constant. 1e-6 relative:
   // the scene's contacts last ~200 steps (pi sqrt(m*/k) / dt), where the measured error of
   // the tests in tests/dem is ~1e-7 (measured here: see docs/objects.md).
-  const auto energy = numeric_rows(out / "energy.csv");
+  const auto energy = numeric_csv_rows(out / "energy.csv");
   ASSERT_GE(energy.size(), 2u);
   auto total = [](const std::vector<double>& r) { return r[2] + r[3] + r[4] + r[5] + r[6] - r[7]; };
   EXPECT_NEAR(total(energy.back()) / total(energy.front()), 1.0, 1e-6);
@@ -77,7 +65,7 @@ TEST(SeedSample, VoxelizeThenSimulateRunsKeepsParticlesInTheBoxAndMovesTheObject
 
   // Object: after 10 frames it rose by vel h per frame = 0.005 * 44/76 * 10 m and turned by
   // pi/1200 per frame about +z (input_params_update.dat; conversion in legacy_scene.hpp).
-  const auto objects = numeric_rows(out / "objects.csv");
+  const auto objects = numeric_csv_rows(out / "objects.csv");
   ASSERT_GE(objects.size(), 2u);
   const auto& last = objects.back();
   const double h = 44.0 / 76.0;

@@ -24,33 +24,20 @@
 
 #include "../apps/cli_runner.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
+#include "csv_rows.hpp"
 #include "test_paths.hpp"
 
 namespace ppohdem::dem {
 namespace {
 namespace fs = std::filesystem;
 
-/// The data rows of a CSV output (comment lines and the header skipped), as doubles.
-std::vector<std::vector<double>> numeric_rows(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == 's') continue;  // comments, header
-    std::vector<double> row;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
-}
+using test::numeric_csv_rows;
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 void expect_same_rows(const fs::path& a, const fs::path& b) {
-  const auto ra = numeric_rows(a);
-  const auto rb = numeric_rows(b);
+  const auto ra = numeric_csv_rows(a);
+  const auto rb = numeric_csv_rows(b);
   ASSERT_EQ(ra.size(), rb.size()) << a << " vs " << b;
   ASSERT_GE(ra.size(), 3u);  // steps 0, 500, 1000
   for (std::size_t r = 0; r < ra.size(); ++r) {
@@ -143,9 +130,9 @@ TEST(SeedSampleModern, TomlSceneGivesTheLegacyInputsTrajectoriesBitForBit) {
   // out of the wall x = 0 (it starts inside it), which dissipates energy; the object moved.
   const Particles start = read_particles_csv(test::fixture("seed-sample/sample_particles.csv"));
   EXPECT_LT(a[300].position.z(), start[300].position.z() - 0.015);
-  const auto energy = numeric_rows(legacy / "out" / "energy.csv");
+  const auto energy = numeric_csv_rows(legacy / "out" / "energy.csv");
   EXPECT_GT(energy.back()[6], 0.0);  // dissipated [J]
-  const auto objects = numeric_rows(legacy / "out" / "objects.csv");
+  const auto objects = numeric_csv_rows(legacy / "out" / "objects.csv");
   EXPECT_GT(objects.back()[5], objects.front()[5]);  // centroid_z rose
   // ... and the object was never touched (see the top): zero force in every row.
   for (const auto& row : objects) {

@@ -3,6 +3,7 @@
 // failing property prints its seed in the binary's output (kept in the work directory) and
 // can be replayed with RC_PARAMS="reproduce=..." (see docs/validation.md).
 #include "invariant_checks.hpp"
+#include "plot.hpp"
 
 #include <cstdlib>
 #include <filesystem>
@@ -38,15 +39,6 @@ std::string attribute(const std::string& element, const std::string& name) {
   return element.substr(start, element.find('"', start) - start);
 }
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q.append("'\\''");
-    else q.push_back(c);
-  }
-  q.push_back('\'');
-  return q;
-}
 
 std::vector<CheckRow> run_binaries(const CheckContext& ctx) {
   std::vector<CheckRow> rows;
@@ -68,9 +60,9 @@ std::vector<CheckRow> run_binaries(const CheckContext& ctx) {
     }
     const fs::path xml = fs::path(ctx.work_dir) / (std::string(b.target) + ".xml");
     const fs::path log = fs::path(ctx.work_dir) / (std::string(b.target) + ".log");
-    const std::string cmd = "RC_PARAMS=" + rc_params + " " + quote(exe.string()) + " --gtest_filter=" +
-                            quote(b.filter) + " --gtest_output=xml:" + quote(xml.string()) + " > " +
-                            quote(log.string()) + " 2>&1";
+    const std::string cmd = "RC_PARAMS=" + rc_params + " " + shell_quote(exe.string()) + " --gtest_filter=" +
+                            shell_quote(b.filter) + " --gtest_output=xml:" + shell_quote(xml.string()) + " > " +
+                            shell_quote(log.string()) + " 2>&1";
     const int rc = std::system(cmd.c_str());
     std::ifstream in(xml);
     std::stringstream text;

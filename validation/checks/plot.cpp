@@ -24,8 +24,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
   }
 }
 
-namespace {
-std::string quote(const std::string& s) {
+std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) {
     if (c == '\'') q.append("'\\''");
@@ -34,7 +33,6 @@ std::string quote(const std::string& s) {
   q.push_back('\'');
   return q;
 }
-}  // namespace
 
 bool run_plot(const CheckContext& ctx, const std::string& kind, const std::string& csv,
               const std::string& png, const std::vector<std::string>& extra) {
@@ -42,11 +40,11 @@ bool run_plot(const CheckContext& ctx, const std::string& kind, const std::strin
   const std::string python = env != nullptr ? env : "/usr/bin/python3";
   const std::string script =
       (std::filesystem::path(ctx.source_dir) / "validation" / "checks" / "plot_validation.py").string();
-  std::string cmd = quote(python);
-  cmd.append(" ").append(quote(script)).append(" ").append(quote(kind)).append(" ");
-  cmd.append(quote(csv)).append(" ");
-  cmd.append(quote((std::filesystem::path(ctx.img_dir) / png).string()));
-  for (const auto& e : extra) cmd.append(" ").append(quote(e));
+  std::string cmd = shell_quote(python);
+  cmd.append(" ").append(shell_quote(script)).append(" ").append(shell_quote(kind)).append(" ");
+  cmd.append(shell_quote(csv)).append(" ");
+  cmd.append(shell_quote((std::filesystem::path(ctx.img_dir) / png).string()));
+  for (const auto& e : extra) cmd.append(" ").append(shell_quote(e));
   cmd.append(" 1>&2");
   const int rc = std::system(cmd.c_str());
   if (rc != 0) {

@@ -14,6 +14,9 @@ namespace ppohdem::validation {
 void write_csv(const std::string& path, const std::vector<std::string>& header,
                const std::vector<std::vector<double>>& rows);
 
+/// `s` as one POSIX shell word: in single quotes, each ' written as '\'' .
+std::string shell_quote(const std::string& s);
+
 /// Runs `plot_validation.py KIND CSV PNG [extra...]`; PNG is a file name in ctx.img_dir.
 /// Returns false (and warns on stderr) if the plot could not be made.
 bool run_plot(const CheckContext& ctx, const std::string& kind, const std::string& csv,

@@ -1,0 +1,27 @@
+#pragma once
+// The data rows of a ppohdem CSV output (energy.csv, objects.csv) as doubles, for the sample
+// tests: provenance comment lines ('#') and the header (it starts with "step") are skipped.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace ppohdem::test {
+
+inline std::vector<std::vector<double>> numeric_csv_rows(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 's') continue;  // comments, header
+    std::vector<double> row;
+    std::stringstream s(line);
+    std::string cell;
+    while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace ppohdem::test
