@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ppohdem/dem/cell_grid.hpp"
+
 namespace ppohdem::reference::dem {
 namespace {
 
@@ -23,55 +25,17 @@ void sort_by_id(const ppohdem::dem::Particles& particles,
   });
 }
 
-/// A dense grid of cubic cells of side `cell` [m] starting at `origin`, `dims` cells per
-/// axis; positions outside are clamped into the border cells (see the header).
-struct Grid {
-  Vec3 origin = Vec3::Zero();
-  double cell = 1.0;
-  Index3 dims = {1, 1, 1};
-
-  int axis_index(double x, int axis) const {
-    const double c = std::floor((x - origin[axis]) / cell);
-    return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(dims[axis] - 1)));
-  }
-  Index3 index(const Vec3& x) const { return {axis_index(x.x(), 0), axis_index(x.y(), 1), axis_index(x.z(), 2)}; }
-  std::size_t linear(const Index3& c) const {
-    return static_cast<std::size_t>(c[0]) +
-           static_cast<std::size_t>(dims[0]) * (static_cast<std::size_t>(c[1]) +
-                                                static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(c[2]));
-  }
-  std::size_t size() const {
-    return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(dims[2]);
-  }
-};
-
-Grid grid_for(const ppohdem::dem::Particles& particles) {
-  Grid g;
+/// Cells of side 2 R_max [m] over the centres (ppohdem/dem/cell_grid.hpp): two touching
+/// spheres are then in the same or in adjacent cells.
+ppohdem::dem::CellGrid grid_for(const ppohdem::dem::Particles& particles) {
   double r_max = 0.0;
-  for (const auto& p : particles) r_max = std::max(r_max, p.radius);
-  g.cell = 2.0 * r_max;  // [m]
-  const std::size_t n = particles.size();
-  // Per axis: the 1st..99th percentile of the centres, plus one cell on each side.
-  std::vector<double> x(n);
-  Vec3 cells = Vec3::Ones();
-  for (int axis = 0; axis < 3; ++axis) {
-    for (std::size_t i = 0; i < n; ++i) x[i] = particles[i].position[axis];
-    const auto lo = x.begin() + static_cast<std::ptrdiff_t>(n / 100);
-    const auto hi = x.begin() + static_cast<std::ptrdiff_t>(n - 1 - n / 100);
-    std::nth_element(x.begin(), lo, x.end());
-    const double low = *lo;
-    std::nth_element(x.begin(), hi, x.end());
-    const double high = *hi;
-    g.origin[axis] = low - g.cell;
-    cells[axis] = std::ceil((high - low) / g.cell) + 2.0;
+  std::vector<Vec3> centres;
+  centres.reserve(particles.size());
+  for (const auto& p : particles) {
+    r_max = std::max(r_max, p.radius);
+    centres.push_back(p.position);
   }
-  // At most ~8 N + 27 cells: a sparse bulk gets fewer, larger-in-effect border cells
-  // (the clamp keeps the search correct, see the header).
-  const double budget = 8.0 * static_cast<double>(n) + 27.0;
-  const double total = cells.prod();
-  if (total > budget) cells *= std::cbrt(budget / total);
-  for (int axis = 0; axis < 3; ++axis) g.dims[axis] = static_cast<int>(std::max(1.0, std::floor(cells[axis])));
-  return g;
+  return ppohdem::dem::cell_grid_for(centres, 2.0 * r_max);
 }
 
 }  // namespace
@@ -79,7 +43,7 @@ Grid grid_for(const ppohdem::dem::Particles& particles) {
 std::vector<std::pair<std::size_t, std::size_t>> touching_pairs(const ppohdem::dem::Particles& particles) {
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   if (particles.empty()) return pairs;
-  const Grid grid = grid_for(particles);
+  const ppohdem::dem::CellGrid grid = grid_for(particles);
 
   // Counting sort of the particles by cell: the particles of cell c are
   // sorted[start[c] .. start[c+1]).

@@ -9,59 +9,16 @@
 #include <unordered_map>
 
 #include "fast_state.hpp"
+#include "ppohdem/dem/cell_grid.hpp"
 #include "ppohdem/error.hpp"
 
 namespace ppohdem::dem::fast {
 
 namespace {
 
-/// A dense grid of cubic cells covering the 1st..99th percentile of the centres plus one cell,
-/// at most ~8 N cells; centres outside are clamped into the border cells (correct: the clamp
-/// is monotone and never separates two centres closer than a cell by more than one cell per
-/// axis; reference/include/ppohdem/reference/dem/cell_list.hpp argues the same).
-struct Grid {
-  Vec3 origin = Vec3::Zero();
-  double cell = 1.0;  ///< [m]
-  Index3 dims = {1, 1, 1};
+using Grid = CellGrid;  // ppohdem/dem/cell_grid.hpp (shared with the reference's cell list)
 
-  int axis_index(double x, int axis) const {
-    const double c = std::floor((x - origin[axis]) / cell);
-    return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(dims[axis] - 1)));
-  }
-  Index3 index(const Vec3& x) const { return {axis_index(x.x(), 0), axis_index(x.y(), 1), axis_index(x.z(), 2)}; }
-  std::size_t linear(const Index3& c) const {
-    return static_cast<std::size_t>(c[0]) +
-           static_cast<std::size_t>(dims[0]) *
-               (static_cast<std::size_t>(c[1]) + static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(c[2]));
-  }
-  std::size_t size() const {
-    return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(dims[2]);
-  }
-};
-
-Grid grid_for(const std::vector<Vec3>& x, double min_cell) {
-  Grid g;
-  g.cell = min_cell;
-  const std::size_t n = x.size();
-  std::vector<double> c(n);
-  Vec3 cells = Vec3::Ones();
-  for (int axis = 0; axis < 3; ++axis) {
-    for (std::size_t i = 0; i < n; ++i) c[i] = x[i][axis];
-    const auto lo = c.begin() + static_cast<std::ptrdiff_t>(n / 100);
-    const auto hi = c.begin() + static_cast<std::ptrdiff_t>(n - 1 - n / 100);
-    std::nth_element(c.begin(), lo, c.end());
-    const double low = *lo;
-    std::nth_element(c.begin(), hi, c.end());
-    const double high = *hi;
-    g.origin[axis] = low - g.cell;
-    cells[axis] = std::ceil((high - low) / g.cell) + 2.0;
-  }
-  const double budget = 8.0 * static_cast<double>(n) + 27.0;
-  const double total = cells.prod();
-  if (total > budget) cells *= std::cbrt(budget / total);
-  for (int axis = 0; axis < 3; ++axis) g.dims[axis] = static_cast<int>(std::max(1.0, std::floor(cells[axis])));
-  return g;
-}
+Grid grid_for(const std::vector<Vec3>& x, double min_cell) { return cell_grid_for(x, min_cell); }
 
 template <class T>
 void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
