@@ -65,36 +65,57 @@ def oblique(d, png, labels):
         for m in np.unique(d["material"]):
             sel = d[d["material"] == m]
             lab = labels[int(m)] if int(m) < len(labels) else str(m)
-            ax.plot(sel["theta"], sel[r], "-", lw=1, label=f"{lab}: reduced Hertz-Mindlin solution")
+            ax.plot(sel["theta"], sel[r], "-", lw=1, label=f"{lab}: two-body Hertz-Mindlin solution")
             ax.plot(sel["theta"], sel[c], "o", mfc="none", ms=5, label=f"{lab}: engine")
         ax.set_xlabel("incident angle [deg]")
         ax.set_title(title)
     axes[0].legend(fontsize=7)
-    fig.suptitle("Chung & Ooi test 4: oblique impacts at 3.9 m/s on a rigid plane (mu 0.092)")
+    fig.suptitle("Chung & Ooi test 4: oblique impacts at 3.9 m/s on a rigid plane (R 2.5 mm, mu 0.092, e 0.98)")
     fig.tight_layout()
     fig.savefig(png, dpi=110)
 
 
 def psi(d, png, labels):
-    four_chi = float(labels[0]) if labels else 4.0
-    fig, axes = plt.subplots(1, 4, figsize=(17, 4.2), sharey=True)
-    names = {5: "test 5: varied v_t", 6: "test 6: sphere-plane with spin",
-             7: "test 7: two spheres with spin", 8: "test 8: spheres R and R/2"}
+    """Tests 5-8: Psi2 vs Psi1 per test and material; labels = [spin CSV, "test:material:name"...]."""
+    spin = load(labels[0]) if labels else None
+    names = {}
+    for item in labels[1:]:
+        t, m, name = item.split(":", 2)
+        names[(int(t), int(m))] = name
+    fig, axes = plt.subplots(1, 5, figsize=(22, 4.4))
+    titles = {5: "test 5: v_n 5 m/s, varied v_t (mu 0.3, e 1)", 6: "test 6: sphere-plane with spin (mu 0.4, e 0.5)",
+              7: "test 7: two spheres, spins +w +w (slip 2wR)", 8: "test 8: R 0.1 m on R 0.5 m with spin"}
     for ax, t in zip(axes, (5, 6, 7, 8)):
-        sel = d[d["test"] == t]
-        if len(sel) == 0:
-            continue
-        x = np.linspace(0, sel["psi1"].max(), 200)
-        ax.plot(sel["psi1"], sel["psi2_ref"], "k-", lw=1, label="reduced Hertz-Mindlin solution")
-        ax.plot(x[x >= four_chi - 1], x[x >= four_chi - 1] - four_chi, "r--", lw=1,
-                label="gross sliding Psi2 = Psi1 - 4chi (Maw et al.)")
-        ax.plot(sel["psi1"], sel["psi2"], "o", mfc="none", ms=5, label="engine")
+        sel_t = d[d["test"] == t]
+        for k, m in enumerate(np.unique(sel_t["material"])):
+            sel = sel_t[sel_t["material"] == m]
+            lab = names.get((t, int(m)), str(m))
+            color = "C%d" % k
+            ax.plot(sel["psi1"], sel["psi2_ref"], "-", color=color, lw=1, label=f"{lab}: two-body solution")
+            ax.plot(sel["psi1"], sel["psi2"], "o", color=color, mfc="none", ms=5, label=f"{lab}: engine")
+            s2 = sel["slide"][0]
+            if sel["psi1"].max() > s2:
+                x = np.linspace(s2, sel["psi1"].max(), 50)
+                ax.plot(x, x - s2, "--", color=color, lw=0.8, label=f"{lab}: sliding Psi1 - 2chi(1+e)")
         ax.axhline(0, color="0.7", lw=0.5)
-        ax.set_title(names[t])
-        ax.set_xlabel("normalised incidence Psi1 = 4 G* v_c / (mu E* v_n)")
-    axes[0].set_ylabel("normalised recoil Psi2 = 4 G* v_c' / (mu E* v_n)")
-    axes[0].legend(fontsize=7)
-    fig.suptitle("Chung & Ooi tests 5-8 (Al alloy, mu 0.3)")
+        ax.set_title(titles[t], fontsize=9)
+        ax.set_xlabel("Psi1 = 4 G* v_c / (mu E* v_n)")
+        ax.legend(fontsize=6)
+    axes[0].set_ylabel("Psi2 = 4 G* v_c' / (mu E* v_n)")
+    ax = axes[4]
+    if spin is not None and len(spin):
+        for k, m in enumerate(np.unique(spin["material"])):
+            sel = spin[spin["material"] == m]
+            lab = names.get((7, int(m)), str(m))
+            ax.plot(sel["omega"], sel["omega_a"], "o", mfc="none", color="C%d" % k, label=f"{lab}: w_A'")
+            ax.plot(sel["omega"], sel["omega_b"], "x", color="C%d" % k, label=f"{lab}: -w_B'")
+        w = np.linspace(0, spin["omega"].max(), 10)
+        ax.plot(w, w, "k-", lw=1, label="w' = w (no slip: exact)")
+    ax.set_title("test 7 as published: spins +w, -w", fontsize=9)
+    ax.set_xlabel("initial spin w [rad/s]")
+    ax.set_ylabel("rebound spin [rad/s]")
+    ax.legend(fontsize=6)
+    fig.suptitle("Chung & Ooi tests 5-8 with the published materials, radii and velocities")
     fig.tight_layout()
     fig.savefig(png, dpi=110)
 
