@@ -32,6 +32,7 @@ Checkpoint sample() {
     p.velocity = Vec3(0.1 * i, -2.5, 3.0);
     p.angular_velocity = Vec3(1, 2, 3) * (i + 0.5);
     p.radius = 1e-3 * (i + 1);
+    p.material = static_cast<std::uint16_t>(i == 2 ? 65535 : i);  // the largest index too
     p.force = Vec3(std::nextafter(1.0, 2.0), -1e-300, 7.0);
     p.torque = Vec3(4, 5, 6);
     e.particles.push_back(p);
@@ -111,6 +112,7 @@ TEST(CheckpointFormat, RoundTripKeepsEveryBit) {
                   same_bits(p.torque[k], q.torque[k]));
     }
     EXPECT_TRUE(same_bits(p.radius, q.radius));
+    EXPECT_EQ(p.material, q.material);
   }
   EXPECT_TRUE(std::signbit(d.engine.particles[0].position.x()));  // -0.0 stays -0.0
   ASSERT_EQ(d.engine.contacts.size(), 2u);
@@ -136,7 +138,7 @@ TEST(CheckpointFormat, RoundTripKeepsEveryBit) {
 TEST(CheckpointFormat, LayoutIsLittleEndianWithMagicVersionAndBuild) {
   const std::vector<std::uint8_t> b = encode_checkpoint(sample());
   EXPECT_EQ(std::string(b.begin(), b.begin() + 8), "PPOHDEMC");
-  EXPECT_EQ(std::vector<std::uint8_t>(b.begin() + 8, b.begin() + 12), (std::vector<std::uint8_t>{1, 0, 0, 0}));
+  EXPECT_EQ(std::vector<std::uint8_t>(b.begin() + 8, b.begin() + 12), (std::vector<std::uint8_t>{2, 0, 0, 0}));
   const std::uint32_t n = read_u32(b, 12);
   EXPECT_EQ(std::string(b.begin() + 16, b.begin() + 16 + n), checkpoint_build_name());
   // Payload length (u64 LE) = file - header - header CRC - payload CRC.
@@ -192,13 +194,18 @@ TEST(CheckpointFormat, EveryTruncationIsRefused) {
 }
 
 TEST(CheckpointFormat, AnotherFormatVersionIsRefusedByName) {
-  std::vector<std::uint8_t> b = encode_checkpoint(sample());
-  write_u32(b, 8, 2);  // format version 2, a consistent header (its CRC recomputed)
-  write_u32(b, header_length(b), crc32_of(b.data(), header_length(b)));
-  const std::string message = refusal(b);
-  EXPECT_NE(message.find("checkpoint format version 2, written by " + checkpoint_build_name()), std::string::npos)
-      << message;
-  EXPECT_NE(message.find("reads format version 1"), std::string::npos) << message;
+  // 1: the layout before the particles' material index (a file of an older build); 3: newer.
+  for (const std::uint32_t version : {1u, 3u}) {
+    std::vector<std::uint8_t> b = encode_checkpoint(sample());
+    write_u32(b, 8, version);  // a consistent header (its CRC recomputed)
+    write_u32(b, header_length(b), crc32_of(b.data(), header_length(b)));
+    const std::string message = refusal(b);
+    EXPECT_NE(message.find("checkpoint format version " + std::to_string(version) + ", written by " +
+                           checkpoint_build_name()),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("reads format version 2"), std::string::npos) << message;
+  }
 }
 
 TEST(CheckpointFormat, OtherFilesAreNotCheckpoints) {

@@ -102,11 +102,11 @@ class Reader {
   std::size_t base_;  // offset of data_ in the file, for messages
 };
 
-// ---- payload, format version 1 -----------------------------------------------------------
+// ---- payload, format version 2 -----------------------------------------------------------
 //   str provenance, str scene
 //   engine: str name, i64 step, f64 dt,
 //           u64 n, n x particle {i64 id, vec position, vec velocity, vec angular_velocity,
-//                                f64 radius, vec force, vec torque}
+//                                f64 radius, u32 material (< 65536), vec force, vec torque}
 //           u64 n, n x contact {u8 kind, i64 id_a, i64 id_b, vec xi, f64 k_t, vec branch_i,
 //                               vec branch_j, vec surface_velocity}
 //           energies {f64 kinetic, rotational, gravitational, elastic, dissipated,
@@ -117,7 +117,8 @@ class Reader {
 //           u64 n, n bytes engine_private
 //   objects: u64 n, n x {str name, f64 qw, qx, qy, qz, vec translation, u64 outside_grid}
 //   run: u64 n, n x str energy row; u64 n, n x str object row; u64 frames
-constexpr std::size_t kParticleBytes = 8 + 16 * 8;
+// Version 1 was version 2 without the particles' material (one-material scenes only).
+constexpr std::size_t kParticleBytes = 8 + 16 * 8 + 4;
 constexpr std::size_t kContactBytes = 1 + 2 * 8 + 13 * 8;
 
 void encode_payload(Writer& w, const Checkpoint& c) {
@@ -134,6 +135,7 @@ void encode_payload(Writer& w, const Checkpoint& c) {
     w.vec(p.velocity);
     w.vec(p.angular_velocity);
     w.f64(p.radius);
+    w.u32(p.material);
     w.vec(p.force);
     w.vec(p.torque);
   }
@@ -193,6 +195,9 @@ void decode_payload(Reader& r, Checkpoint& c) {
     p.velocity = r.vec("velocity");
     p.angular_velocity = r.vec("angular velocity");
     p.radius = r.f64("radius");
+    const std::uint32_t material = r.u32("material");
+    if (material > 0xFFFF) r.fail("particle material index " + std::to_string(material) + ", expected < 65536");
+    p.material = static_cast<std::uint16_t>(material);
     p.force = r.vec("force");
     p.torque = r.vec("torque");
   }

@@ -54,12 +54,17 @@ double LinearSpringDashpot::collision_time(double m_eff) const {
 }
 
 HertzMindlin HertzMindlin::from_material(const Material& material) {
+  return from_pair(material, material, material.restitution, material.friction);
+}
+
+HertzMindlin HertzMindlin::from_pair(const Material& a, const Material& b, double restitution,
+                                     double friction) {
   HertzMindlin law;
-  law.e_star_ = material.effective_young();
-  law.g_star_ = material.effective_shear();
-  law.e_ = material.restitution;
-  law.mu_ = material.friction;
-  law.alpha_ = hertz_damping_ratio_for_restitution(material.restitution);
+  law.e_star_ = pair_effective_young(a, b);
+  law.g_star_ = pair_effective_shear(a, b);
+  law.e_ = restitution;
+  law.mu_ = friction;
+  law.alpha_ = hertz_damping_ratio_for_restitution(restitution);
   return law;
 }
 

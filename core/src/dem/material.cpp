@@ -16,6 +16,19 @@ double Material::moment_of_inertia(double radius) const {
   return 0.4 * mass(radius) * radius * radius;
 }
 
+double pair_effective_young(const Material& a, const Material& b) {
+  if (a.young == b.young && a.poisson == b.poisson) return a.effective_young();
+  // 1/E* = (1-nu_a^2)/E_a + (1-nu_b^2)/E_b [1/Pa]; the sum is commutative in floating point,
+  // so (a, b) and (b, a) give the same bits.
+  return 1.0 / ((1.0 - a.poisson * a.poisson) / a.young + (1.0 - b.poisson * b.poisson) / b.young);
+}
+
+double pair_effective_shear(const Material& a, const Material& b) {
+  if (a.young == b.young && a.poisson == b.poisson) return a.effective_shear();
+  // 1/G* = (2-nu_a)/G_a + (2-nu_b)/G_b [1/Pa]
+  return 1.0 / ((2.0 - a.poisson) / a.shear_modulus() + (2.0 - b.poisson) / b.shear_modulus());
+}
+
 double harmonic_pair(double a, double b) {
   if (std::isinf(b)) return a;
   if (std::isinf(a)) return b;

@@ -1,5 +1,6 @@
 #include "ppohdem/dem/particle_csv.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -15,7 +16,8 @@ namespace ppohdem::dem {
 namespace {
 
 constexpr std::string_view kHeader = "id,x,y,z,vx,vy,vz,wx,wy,wz,radius";
-constexpr std::size_t kColumns = 11;
+constexpr std::string_view kMaterialHeader = "id,x,y,z,vx,vy,vz,wx,wy,wz,radius,material";
+constexpr std::size_t kColumns = 11;  // without the optional material column
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -37,7 +39,8 @@ std::vector<std::string_view> split(std::string_view line) {
 
 }  // namespace
 
-Particles read_particles_csv(const std::filesystem::path& file) {
+Particles read_particles_csv(const std::filesystem::path& file,
+                             const std::vector<std::string>& material_names) {
   std::ifstream in(file);
   const std::string name = file.string();
   if (!in) throw InputError(name, 0, "cannot open particle file");
@@ -46,6 +49,7 @@ Particles read_particles_csv(const std::filesystem::path& file) {
   std::string raw;
   std::size_t line_no = 0;
   bool header_seen = false;
+  bool with_material = false;
   while (std::getline(in, raw)) {
     ++line_no;
     const std::string_view line = trim(raw);
@@ -53,16 +57,22 @@ Particles read_particles_csv(const std::filesystem::path& file) {
     if (!header_seen) {
       std::string compact;
       for (char c : line) if (c != ' ' && c != '\t') compact += c;
-      if (compact != kHeader) {
-        throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "', found '" +
+      with_material = compact == kMaterialHeader;
+      if (compact != kHeader && !with_material) {
+        throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "' (or with ',material'), found '" +
                                             std::string(line) + "'");
+      }
+      if (with_material && material_names.empty()) {
+        throw InputError(name, line_no, "a 'material' column needs a scene whose materials have names "
+                                        "([material] name = ... or [[material]] entries)");
       }
       header_seen = true;
       continue;
     }
     const auto fields = split(line);
-    if (fields.size() != kColumns) {
-      throw InputError(name, line_no, "expected 11 comma-separated values, found " +
+    const std::size_t columns = with_material ? kColumns + 1 : kColumns;
+    if (fields.size() != columns) {
+      throw InputError(name, line_no, "expected " + std::to_string(columns) + " comma-separated values, found " +
                                           std::to_string(fields.size()));
     }
     Particle p;
@@ -97,6 +107,17 @@ Particles read_particles_csv(const std::filesystem::path& file) {
     if (!(p.radius > 0.0)) {
       throw InputError(name, line_no, "radius must be > 0 m, found " + std::string(fields[10]));
     }
+    if (with_material) {
+      const std::string_view m = fields[kColumns];
+      const auto it = std::find(material_names.begin(), material_names.end(), m);
+      if (it == material_names.end()) {
+        std::string known;
+        for (const std::string& n : material_names) known += (known.empty() ? "" : ", ") + n;
+        throw InputError(name, line_no, "column 'material': unknown material '" + std::string(m) + "' (the scene has: " +
+                                            known + ")");
+      }
+      p.material = static_cast<std::uint16_t>(it - material_names.begin());
+    }
     if (!ids.insert(p.id).second) {
       throw InputError(name, line_no, "id " + std::to_string(p.id) + " appears twice");
     }
@@ -107,19 +128,22 @@ Particles read_particles_csv(const std::filesystem::path& file) {
 }
 
 void write_particles_csv(const std::filesystem::path& file, const Particles& particles,
-                         const std::string& header_comment) {
+                         const std::string& header_comment, const std::vector<std::string>& material_names) {
   AtomicFileWriter writer(file);
   std::ostream& out = writer.stream();
+  const bool with_material = material_names.size() > 1;
   if (!header_comment.empty()) out << "# " << header_comment << '\n';
-  out << kHeader << '\n';
+  out << (with_material ? kMaterialHeader : kHeader) << '\n';
   char buf[512];
   for (const Particle& p : particles) {
     std::snprintf(buf, sizeof buf,
-                  "%lld,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                  "%lld,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g",
                   static_cast<long long>(p.id), p.position.x(), p.position.y(), p.position.z(),
                   p.velocity.x(), p.velocity.y(), p.velocity.z(), p.angular_velocity.x(),
                   p.angular_velocity.y(), p.angular_velocity.z(), p.radius);
     out << buf;
+    if (with_material) out << ',' << material_names.at(p.material);
+    out << '\n';
   }
   writer.commit();
 }

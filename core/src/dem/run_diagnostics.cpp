@@ -121,7 +121,7 @@ std::optional<std::string> RunDiagnostics::check_domain(const DemEngine& engine)
       << format_vec(p.position) << " " << through << " (speed " << speed << " m/s, " << per_step
       << " m per step = " << 100.0 * per_step / p.radius << " % of its radius " << p.radius << " m). Likely cause: ";
     PairProperties pair;
-    pair.m_eff = setup_.material.mass(p.radius);
+    pair.m_eff = setup_.material_at(p.material).mass(p.radius);
     pair.r_eff = p.radius;
     const double delta = elastic_overlap_at_speed(setup_.law, pair, speed);
     if (per_step > 0.5 * p.radius) {
@@ -167,7 +167,7 @@ std::optional<std::string> RunDiagnostics::check_overlap(const DemEngine& engine
   if (deepest->boundary) {
     const auto& boundary = *setup_.boundaries.at(static_cast<std::size_t>(deepest->id_b));
     s << " overlaps " << boundary.describe();
-    pair.m_eff = setup_.material.mass(a->radius);
+    pair.m_eff = setup_.material_at(a->material).mass(a->radius);
     pair.r_eff = a->radius;
     if (const auto c = boundary.contact(a->position, a->radius, engine.time())) {
       approach = std::abs((a->velocity - c->surface_velocity).dot(c->normal));
@@ -176,7 +176,8 @@ std::optional<std::string> RunDiagnostics::check_overlap(const DemEngine& engine
     const Particle* b = find_id(engine.particles(), deepest->id_b);
     s << " and particle id " << deepest->id_b << " overlap";
     if (b != nullptr) {
-      const double ma = setup_.material.mass(a->radius), mb = setup_.material.mass(b->radius);
+      const double ma = setup_.material_at(a->material).mass(a->radius);
+      const double mb = setup_.material_at(b->material).mass(b->radius);
       pair.m_eff = ma * mb / (ma + mb);
       pair.r_eff = a->radius * b->radius / (a->radius + b->radius);
       const Vec3 n = (a->position - b->position).normalized();

@@ -31,7 +31,7 @@ class SceneParser {
 
   Scene parse() {
     toml::table root = parse_toml();
-    check_keys(root, "", {"simulation", "material", "contact", "particles", "wall", "object", "output", "checks"});
+    check_keys(root, "", {"simulation", "material", "material_pair", "contact", "particles", "wall", "object", "output", "checks"});
     Scene scene;
     SimulationSetup& s = scene.setup;
     s.source = name_;
@@ -43,17 +43,10 @@ class SceneParser {
     if (scene.steps < 0) fail(sim.get("steps"), "[simulation] steps must be >= 0");
     s.gravity = optional_vec3(sim, "simulation", "gravity").value_or(Vec3::Zero());
 
-    const toml::table& mat = require_table(root, "material");
-    check_keys(mat, "material", {"density", "young", "poisson", "restitution", "friction"});
-    s.material.density = require_number(mat, "material", "density");
-    s.material.young = optional_number(mat, "material", "young").value_or(0.0);
-    s.material.poisson = optional_number(mat, "material", "poisson").value_or(0.0);
-    s.material.restitution = require_number(mat, "material", "restitution");
-    s.material.friction = optional_number(mat, "material", "friction").value_or(0.0);
-
     const toml::table& contact = require_table(root, "contact");
     check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio"});
     const std::string model = require_string(contact, "contact", "model");
+    read_materials(root, model == "hertz-mindlin", s);
     const toml::table& particles = require_table(root, "particles");
     read_particles(particles, s);
 
@@ -91,7 +84,8 @@ class SceneParser {
       for (const toml::node& w : *list) {
         const toml::table* t = w.as_table();
         if (!t) fail(&w, "[[wall]] entries must be tables");
-        check_keys(*t, "wall", {"point", "normal", "velocity"});
+        check_keys(*t, "wall", {"point", "normal", "velocity", "material"});
+        set_boundary_material(*t, "wall", s.boundaries.size(), s);
         const Vec3 point = *require_vec3(*t, "wall", "point");
         const Vec3 normal = *require_vec3(*t, "wall", "normal");
         const Vec3 velocity = optional_vec3(*t, "wall", "velocity").value_or(Vec3::Zero());
@@ -106,6 +100,7 @@ class SceneParser {
       for (const toml::node& o : *list) {
         const toml::table* t = o.as_table();
         if (!t) fail(&o, "[[object]] entries must be tables");
+        set_boundary_material(*t, "object", s.boundaries.size(), s);
         scene.objects.push_back({read_object(*t, s, scene.objects.size()), s.boundaries.size()});
         s.boundaries.push_back(scene.objects.back().object);
       }
@@ -287,16 +282,19 @@ class SceneParser {
 
   void read_particles(const toml::table& t, SimulationSetup& s) const {
     check_keys(t, "particles", {"file", "generator", "box_min", "box_max", "count", "radius",
-                                "radius_max", "seed", "velocity", "jitter", "allow_overlap"});
+                                "radius_max", "seed", "velocity", "jitter", "allow_overlap", "material"});
     s.allow_initial_overlap = optional_bool(t, "particles", "allow_overlap").value_or(false);
     const bool has_file = t.contains("file");
     const bool has_generator = t.contains("generator");
     if (has_file == has_generator) fail(&t, "[particles] needs exactly one of file = \"...\" or generator = \"lattice\"|\"random\"");
     if (has_file) {
-      for (const char* key : {"box_min", "box_max", "count", "radius", "radius_max", "seed", "velocity", "jitter"}) {
-        if (t.contains(key)) fail(t.get(key), std::string("[particles] ") + key + " applies to a generator, not to file =");
+      for (const char* key : {"box_min", "box_max", "count", "radius", "radius_max", "seed", "velocity", "jitter", "material"}) {
+        if (t.contains(key)) {
+          fail(t.get(key), std::string("[particles] ") + key + " applies to a generator, not to file =" +
+                               (std::string_view(key) == "material" ? " (the file's material column gives it)" : ""));
+        }
       }
-      s.particles = read_particles_csv(relative_to_scene(require_string(t, "particles", "file")));
+      s.particles = read_particles_csv(relative_to_scene(require_string(t, "particles", "file")), s.material_names);
       return;
     }
     GeneratorSpec spec;
@@ -317,6 +315,128 @@ class SceneParser {
     spec.jitter = optional_number(t, "particles", "jitter").value_or(0.0);
     if (spec.jitter < 0.0 || spec.jitter > 1.0) fail(t.get("jitter"), "[particles] jitter must be in [0, 1] (fraction of the radius)");
     s.particles = generate_particles(spec, name_);
+    // material = "name" for every particle, or ["a", "b", ...]: id k gets entry (k - 1) mod n.
+    if (const toml::node* m = t.get("material")) {
+      std::vector<std::uint16_t> cycle;
+      if (m->is_string()) {
+        cycle.push_back(material_index(m, *m->value<std::string>(), s, "[particles] material"));
+      } else if (const toml::array* list = m->as_array(); list && !list->empty()) {
+        for (const toml::node& item : *list) {
+          if (!item.is_string()) fail(&item, "[particles] material: expected a name or an array of names");
+          cycle.push_back(material_index(&item, *item.value<std::string>(), s, "[particles] material"));
+        }
+      } else {
+        fail(m, "[particles] material: expected a name or a non-empty array of names");
+      }
+      for (Particle& p : s.particles) {
+        p.material = cycle[static_cast<std::size_t>(p.id - 1) % cycle.size()];
+      }
+    }
+  }
+
+  /// [material] (one material; optional name, default "default") or [[material]] entries
+  /// (several, each with a unique name), and [[material_pair]] entries.
+  void read_materials(const toml::table& root, bool hertz, SimulationSetup& s) const {
+    const toml::node* node = root.get("material");
+    if (!node) throw InputError(name_, 0, "missing table [material] (or [[material]] entries with names)");
+    std::vector<const toml::table*> tables;
+    const bool several = node->is_array();
+    if (const toml::table* one = node->as_table()) {
+      tables.push_back(one);
+    } else if (const toml::array* list = node->as_array()) {
+      if (list->empty()) fail(node, "[[material]]: expected at least one entry");
+      for (const toml::node& item : *list) {
+        if (!item.is_table()) fail(&item, "[[material]] entries must be tables");
+        tables.push_back(item.as_table());
+      }
+    } else {
+      fail(node, "[material] must be a table (or [[material]] an array of tables)");
+    }
+    if (tables.size() > kMaxMaterials) {
+      fail(node, "[[material]]: " + std::to_string(tables.size()) + " entries, at most " +
+                     std::to_string(kMaxMaterials) + " are supported");
+    }
+    if (several && tables.size() > 1 && !hertz) {
+      fail(node, "[[material]]: several materials need [contact] model = \"hertz-mindlin\" (the linear law has "
+                 "one stiffness for every pair)");
+    }
+    for (const toml::table* t : tables) {
+      check_keys(*t, "material", {"name", "density", "young", "poisson", "restitution", "friction"});
+      std::string name = "default";
+      if (several || t->contains("name")) {
+        name = require_string(*t, "material", "name");
+        if (name.empty() || name.find_first_of(",\"") != std::string::npos) {
+          fail(t->get("name"), "[material] name: expected a non-empty name without ',' or '\"'");
+        }
+      }
+      for (const std::string& other : s.material_names) {
+        if (other == name) fail(t->get("name"), "[[material]] name '" + name + "' is used twice");
+      }
+      Material m;
+      m.density = require_number(*t, "material", "density");
+      m.young = optional_number(*t, "material", "young").value_or(0.0);
+      m.poisson = optional_number(*t, "material", "poisson").value_or(0.0);
+      m.restitution = require_number(*t, "material", "restitution");
+      m.friction = optional_number(*t, "material", "friction").value_or(0.0);
+      if (tables.size() > 1) {  // name the entry and its line (one material: checked with the model)
+        try {
+          validate(m, hertz, name_);
+        } catch (const InputError& e) {
+          fail(t, "[[material]] '" + name + "': " + e.message());
+        }
+      }
+      if (s.material_names.empty()) s.material = m;
+      else s.more_materials.push_back(m);
+      s.material_names.push_back(name);
+    }
+    if (const toml::node* pairs = root.get("material_pair")) {
+      const toml::array* list = pairs->as_array();
+      if (!list) fail(pairs, "[[material_pair]] must be an array of tables");
+      for (const toml::node& item : *list) {
+        const toml::table* t = item.as_table();
+        if (!t) fail(&item, "[[material_pair]] entries must be tables");
+        check_keys(*t, "material_pair", {"materials", "restitution", "friction"});
+        const toml::node* names = t->get("materials");
+        const toml::array* two = names ? names->as_array() : nullptr;
+        if (!two || two->size() != 2 || !two->get(0)->is_string() || !two->get(1)->is_string()) {
+          fail(names ? names : t, "[[material_pair]] materials: expected two names, e.g. [\"glass\", \"steel\"]");
+        }
+        MaterialPairRule r;
+        r.a = material_index(two->get(0), *two->get(0)->value<std::string>(), s, "[[material_pair]] materials");
+        r.b = material_index(two->get(1), *two->get(1)->value<std::string>(), s, "[[material_pair]] materials");
+        if (r.a == r.b) fail(names, "[[material_pair]] materials: two different materials expected (a material's own pair uses its own values)");
+        for (const MaterialPairRule& o : s.material_pairs) {
+          if ((o.a == r.a && o.b == r.b) || (o.a == r.b && o.b == r.a)) fail(names, "[[material_pair]]: this pair is given twice");
+        }
+        r.restitution = optional_number(*t, "material_pair", "restitution");
+        r.friction = optional_number(*t, "material_pair", "friction");
+        if (!r.restitution && !r.friction) fail(t, "[[material_pair]]: expected restitution and/or friction");
+        if (r.restitution && !(*r.restitution > 0.0 && *r.restitution <= 1.0)) {
+          fail(t->get("restitution"), "[[material_pair]] restitution must be in (0, 1]");
+        }
+        if (r.friction && !(*r.friction >= 0.0)) fail(t->get("friction"), "[[material_pair]] friction must be >= 0");
+        s.material_pairs.push_back(r);
+      }
+    }
+  }
+
+  std::uint16_t material_index(const toml::node* node, const std::string& name, const SimulationSetup& s,
+                               const std::string& what) const {
+    for (std::size_t k = 0; k < s.material_names.size(); ++k) {
+      if (s.material_names[k] == name) return static_cast<std::uint16_t>(k);
+    }
+    std::string known;
+    for (const std::string& n : s.material_names) known += (known.empty() ? "" : ", ") + n;
+    fail(node, what + ": unknown material '" + name + "' (the scene has: " + known + ")");
+  }
+
+  /// Optional material = "name" of a [[wall]] or [[object]] (boundary index b).
+  void set_boundary_material(const toml::table& t, const char* table, std::size_t b, SimulationSetup& s) const {
+    const toml::node* m = t.get("material");
+    if (!m) return;
+    if (!m->is_string()) fail(m, std::string("[") + table + "] material: expected a material name");
+    s.boundary_materials.resize(b + 1, -1);
+    s.boundary_materials[b] = material_index(m, *m->value<std::string>(), s, std::string("[") + table + "] material");
   }
 
   std::optional<Index3> optional_index3(const toml::table& t, const char* table, const char* key) const {
@@ -340,7 +460,7 @@ class SceneParser {
   std::shared_ptr<const DistanceFieldObject> read_object(const toml::table& t, const SimulationSetup& s,
                                                          std::size_t index) const {
     check_keys(t, "object", {"name", "distance", "mesh", "cells", "margin", "velocity", "axis", "omega",
-                             "centroid", "start", "stop"});
+                             "centroid", "start", "stop", "material"});
     const std::string name = t.contains("name") ? require_string(t, "object", "name")
                                                 : "object " + std::to_string(index + 1);
     const bool has_distance = t.contains("distance");

@@ -18,6 +18,55 @@ std::string seconds(double s) {
   return buf;
 }
 
+/// The materials of a setup, their pair rules and the boundaries' materials.
+void validate_materials(const SimulationSetup& setup) {
+  const std::string& where = setup.source;
+  auto fail = [&](const std::string& what) { throw InputError(where, 0, what); };
+  const bool hertz = std::holds_alternative<HertzMindlin>(setup.law);
+  const std::size_t count = setup.material_count();
+  if (count == 1) {
+    validate(setup.material, hertz, where);
+  } else {
+    if (!hertz) {
+      fail("[contact] model = \"linear\" has one stiffness for every pair: a scene with " +
+           std::to_string(count) + " materials needs model = \"hertz-mindlin\"");
+    }
+    if (count > kMaxMaterials) {
+      fail(std::to_string(count) + " materials; at most " + std::to_string(kMaxMaterials) + " are supported");
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      try {
+        validate(setup.material_at(k), true, where);
+      } catch (const InputError& e) {
+        fail(setup.material_label(k) + ": " + e.message());
+      }
+    }
+  }
+  if (!setup.material_names.empty() && setup.material_names.size() != count) {
+    fail(std::to_string(setup.material_names.size()) + " material names for " + std::to_string(count) +
+         " materials");
+  }
+  for (const MaterialPairRule& r : setup.material_pairs) {
+    const std::string what = "material pair (" + std::to_string(r.a) + ", " + std::to_string(r.b) + "): ";
+    if (r.a >= count || r.b >= count) fail(what + "unknown material index");
+    if (r.a == r.b) fail(what + "a pair of one material is given by the material itself");
+    if (r.restitution && !(*r.restitution > 0.0 && *r.restitution <= 1.0)) {
+      fail(what + "restitution must be in (0, 1], got " + std::to_string(*r.restitution));
+    }
+    if (r.friction && (!(*r.friction >= 0.0) || !std::isfinite(*r.friction))) {
+      fail(what + "friction must be >= 0, got " + std::to_string(*r.friction));
+    }
+  }
+  if (setup.boundary_materials.size() > setup.boundaries.size()) {
+    fail("more boundary materials than boundaries");
+  }
+  for (const std::int32_t m : setup.boundary_materials) {
+    if (m < -1 || (m >= 0 && static_cast<std::size_t>(m) >= count)) {
+      fail("boundary material index " + std::to_string(m) + " out of range");
+    }
+  }
+}
+
 }  // namespace
 
 double rayleigh_time(double radius, const Material& material) {
@@ -26,18 +75,33 @@ double rayleigh_time(double radius, const Material& material) {
          (0.1631 * material.poisson + 0.8766);
 }
 
+std::string SimulationSetup::material_label(std::size_t k) const {
+  std::string label = "material ";
+  if (k < material_names.size()) label += "'" + material_names[k] + "' (" + std::to_string(k) + ")";
+  else label += std::to_string(k);
+  return label;
+}
+
 TimeStepLimit time_step_limit(const SimulationSetup& setup) {
-  double r_min = std::numeric_limits<double>::infinity();
-  for (const Particle& p : setup.particles) r_min = std::min(r_min, p.radius);
   if (setup.particles.empty()) return {std::numeric_limits<double>::infinity(), "no particles"};
+  // Mass and Rayleigh time grow monotonically with R (also in floating point: products and
+  // quotients of positive numbers), so with one material these minima are those of R_min.
+  const auto material_of = [&](const Particle& p) -> const Material& {
+    return setup.material_at(p.material < setup.material_count() ? p.material : 0);
+  };
   if (const auto* linear = std::get_if<LinearSpringDashpot>(&setup.law)) {
-    const double m_eff = setup.material.mass(r_min) / 2.0;  // lightest pair, m* = m/2
+    double m_min = std::numeric_limits<double>::infinity();
+    for (const Particle& p : setup.particles) m_min = std::min(m_min, material_of(p).mass(p.radius));
+    const double m_eff = m_min / 2.0;  // lightest pair, m* = m/2
     const double half_period = units::kPi * std::sqrt(m_eff / linear->normal_stiffness());
     return {0.2 * half_period, "0.2 * pi sqrt(m*/k_n) = 0.2 * " + seconds(half_period) +
                                    " (undamped half period of the lightest pair)"};
   }
-  const double t_r = rayleigh_time(r_min, setup.material);
-  return {0.2 * t_r, "0.2 * Rayleigh time " + seconds(t_r) + " of the smallest particle"};
+  double t_r = std::numeric_limits<double>::infinity();
+  for (const Particle& p : setup.particles) t_r = std::min(t_r, rayleigh_time(p.radius, material_of(p)));
+  return {0.2 * t_r, "0.2 * Rayleigh time " + seconds(t_r) +
+                         (setup.material_count() > 1 ? " of the fastest particle (size and material)"
+                                                     : " of the smallest particle")};
 }
 
 std::vector<std::pair<std::size_t, std::size_t>> overlapping_pairs(const Particles& particles,
@@ -72,7 +136,7 @@ void validate_setup(const SimulationSetup& setup) {
     fail("[simulation] dt must be > 0 s, got " + std::to_string(setup.dt));
   }
   if (!setup.gravity.allFinite()) fail("[simulation] gravity must be finite");
-  validate(setup.material, std::holds_alternative<HertzMindlin>(setup.law), where);
+  validate_materials(setup);
   std::unordered_set<std::int64_t> ids;
   for (std::size_t i = 0; i < setup.particles.size(); ++i) {
     const Particle& p = setup.particles[i];
@@ -84,6 +148,10 @@ void validate_setup(const SimulationSetup& setup) {
       fail(record + "position, velocity and angular velocity must be finite");
     }
     if (!ids.insert(p.id).second) fail(record + "id repeated");
+    if (p.material >= setup.material_count()) {
+      fail(record + "material index " + std::to_string(p.material) + ", the scene has " +
+           std::to_string(setup.material_count()) + " material(s)");
+    }
   }
   const TimeStepLimit limit = time_step_limit(setup);
   if (setup.dt > limit.limit && !setup.force_time_step) {

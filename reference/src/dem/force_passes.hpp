@@ -14,6 +14,7 @@
 #include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/contact_force.hpp"
 #include "ppohdem/dem/material.hpp"
+#include "ppohdem/dem/pair_laws.hpp"
 #include "ppohdem/error.hpp"
 #include "ppohdem/reference/dem/cell_list.hpp"
 #include "ppohdem/reference/dem/reference_engine.hpp"
@@ -32,10 +33,11 @@ inline double ended(const TangentialSpring& spring) { return spring.stored_energ
 
 /// Frictionless contacts keep no history: the kernel calls normal_contact_force only.
 /// With friction, the spring of each contact lives in `history` between steps.
+/// The law of a contact is that of the two particles' materials (pair_laws.hpp).
 template <class Law, bool kFriction>
 class PairForces final : public ForcePass {
  public:
-  explicit PairForces(Law law) : law_(std::move(law)) {}
+  explicit PairForces(ppohdem::dem::PairLaws<Law> laws) : laws_(std::move(laws)) {}
 
   void add_forces(ForceContext& c) override {
     Particles& p = c.particles;
@@ -64,6 +66,7 @@ class PairForces final : public ForcePass {
       k.pair.m_eff = harmonic_pair(c.mass[i], c.mass[j]);  // m* = m_i m_j / (m_i + m_j)
       k.pair.r_eff = harmonic_pair(a.radius, b.radius);    // R* = R_i R_j / (R_i + R_j)
       c.note_overlap(k.overlap, std::min(a.radius, b.radius), a.id, b.id, false);
+      const Law& law = laws_.pair(a.material, b.material);
       ContactForce f;
       if constexpr (kFriction) {
         const Key key(a.id, b.id);
@@ -73,12 +76,12 @@ class PairForces final : public ForcePass {
         k.relative_displacement_previous_arms =
             c.dt * ((a.velocity + a.angular_velocity.cross(spring.branch_i)) -
                     (b.velocity + b.angular_velocity.cross(spring.branch_j)));
-        f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
+        f = ppohdem::dem::frictional_contact_force(law, k, spring, c.dt);
         spring.branch_i = r_a;
         spring.branch_j = r_b;
         next_history.emplace_back(key, spring);
       } else {
-        f = ppohdem::dem::normal_contact_force(law_, k, c.dt);
+        f = ppohdem::dem::normal_contact_force(law, k, c.dt);
       }
       // Newton's third law: equal and opposite forces at the contact point.
       a.force += f.on_i;
@@ -122,7 +125,7 @@ class PairForces final : public ForcePass {
 
  private:
   using Record = ppohdem::dem::ContactHistoryRecord;
-  Law law_;
+  ppohdem::dem::PairLaws<Law> laws_;
   std::size_t active_ = 0;
   using Key = std::pair<std::int64_t, std::int64_t>;  // (id_i, id_j), id_i < id_j
   using History = std::vector<std::pair<Key, TangentialSpring>>;
@@ -130,12 +133,13 @@ class PairForces final : public ForcePass {
 };
 
 /// Particle-boundary contacts: the boundary is body j with infinite mass and radius, so
-/// m* = m_i, R* = R_i, and the boundary material moves with surface_velocity.
+/// m* = m_i, R* = R_i, and the boundary material moves with surface_velocity. The law is that
+/// of the particle's material with the boundary's (its own if the boundary has none).
 template <class Law, bool kFriction>
 class BoundaryForces final : public ForcePass {
  public:
-  BoundaryForces(Law law, ppohdem::dem::BoundaryList boundaries)
-      : law_(std::move(law)), boundaries_(std::move(boundaries)) {}
+  BoundaryForces(ppohdem::dem::PairLaws<Law> laws, ppohdem::dem::BoundaryList boundaries)
+      : laws_(std::move(laws)), boundaries_(std::move(boundaries)) {}
 
   void add_forces(ForceContext& c) override {
     Particles& p = c.particles;
@@ -166,6 +170,7 @@ class BoundaryForces final : public ForcePass {
             c.velocity[i] + c.angular_velocity[i].cross(r_a) - contact->surface_velocity;
         k.pair.m_eff = c.mass[i];
         k.pair.r_eff = a.radius;
+        const Law& law = laws_.boundary(a.material, w);
         ContactForce f;
         if constexpr (kFriction) {
           const auto key = std::pair(a.id, w);
@@ -179,11 +184,11 @@ class BoundaryForces final : public ForcePass {
           k.relative_displacement = c.dt * (a.velocity + a.angular_velocity.cross(r_a) - v_s);
           k.relative_displacement_previous_arms =
               c.dt * (a.velocity + a.angular_velocity.cross(spring.branch_i) - v_s);
-          f = ppohdem::dem::frictional_contact_force(law_, k, spring, c.dt);
+          f = ppohdem::dem::frictional_contact_force(law, k, spring, c.dt);
           spring.branch_i = r_a;
           next_history.emplace(key, spring);
         } else {
-          f = ppohdem::dem::normal_contact_force(law_, k, c.dt);
+          f = ppohdem::dem::normal_contact_force(law, k, c.dt);
         }
         a.force += f.on_i;
         a.torque += r_a.cross(f.on_i);
@@ -249,7 +254,7 @@ class BoundaryForces final : public ForcePass {
 
  private:
   using Record = ppohdem::dem::ContactHistoryRecord;
-  Law law_;
+  ppohdem::dem::PairLaws<Law> laws_;
   ppohdem::dem::BoundaryList boundaries_;
   std::vector<ppohdem::dem::BoundaryLoad> loads_;  ///< per boundary, last evaluation
   std::size_t active_ = 0;

@@ -9,18 +9,20 @@ namespace ppohdem::reference::dem {
 
 namespace {
 
-// Choose the kernels once, from the scene: law x {frictionless, frictional}.
+// Choose the kernels once, from the scene: law x {frictionless, frictional}; frictional if
+// any pair of materials has friction (pair_laws.hpp).
 template <class Law>
-std::unique_ptr<ForcePass> make_pair_pass(const Law& law) {
-  if (law.friction() > 0.0) return std::make_unique<PairForces<Law, true>>(law);
-  return std::make_unique<PairForces<Law, false>>(law);
+std::unique_ptr<ForcePass> make_pair_pass(const ppohdem::dem::PairLaws<Law>& laws) {
+  if (laws.any_friction()) return std::make_unique<PairForces<Law, true>>(laws);
+  return std::make_unique<PairForces<Law, false>>(laws);
 }
 
 template <class Law>
-std::unique_ptr<ForcePass> make_boundary_pass(const Law& law, const ppohdem::dem::BoundaryList& b) {
+std::unique_ptr<ForcePass> make_boundary_pass(const ppohdem::dem::PairLaws<Law>& laws,
+                                              const ppohdem::dem::BoundaryList& b) {
   if (b.empty()) return nullptr;  // no wall code without walls
-  if (law.friction() > 0.0) return std::make_unique<BoundaryForces<Law, true>>(law, b);
-  return std::make_unique<BoundaryForces<Law, false>>(law, b);
+  if (laws.any_friction()) return std::make_unique<BoundaryForces<Law, true>>(laws, b);
+  return std::make_unique<BoundaryForces<Law, false>>(laws, b);
 }
 
 }  // namespace
@@ -30,15 +32,17 @@ ReferenceEngine::ReferenceEngine(const SimulationSetup& setup)
       boundary_count_(setup.boundaries.size()) {
   ppohdem::dem::validate_setup(setup);
   for (const Particle& p : particles_) {
-    mass_.push_back(setup.material.mass(p.radius));
-    inertia_.push_back(setup.material.moment_of_inertia(p.radius));
+    const ppohdem::dem::Material& material = setup.material_at(p.material);
+    mass_.push_back(material.mass(p.radius));
+    inertia_.push_back(material.moment_of_inertia(p.radius));
     predicted_velocity_.push_back(p.velocity);
     predicted_angular_velocity_.push_back(p.angular_velocity);
   }
   std::visit(
       [&](const auto& law) {
-        pair_pass_ = make_pair_pass(law);
-        boundary_pass_ = make_boundary_pass(law, setup.boundaries);
+        const ppohdem::dem::PairLaws laws(setup, law);  // the law of each pair of materials
+        pair_pass_ = make_pair_pass(laws);
+        boundary_pass_ = make_boundary_pass(laws, setup.boundaries);
       },
       setup.law);
   evaluate_forces(0.0);  // a(0); no history increment at start-up
@@ -145,10 +149,11 @@ void ReferenceEngine::restore_state(const EngineState& state) {
                      " particles, the scene has " + std::to_string(particles_.size()));
   }
   for (std::size_t i = 0; i < particles_.size(); ++i) {
-    if (state.particles[i].id != particles_[i].id || state.particles[i].radius != particles_[i].radius) {
+    if (state.particles[i].id != particles_[i].id || state.particles[i].radius != particles_[i].radius ||
+        state.particles[i].material != particles_[i].material) {
       throw InputError("checkpoint: particle " + std::to_string(i) + " has id " +
                        std::to_string(state.particles[i].id) + ", the scene has id " +
-                       std::to_string(particles_[i].id) + " (or a different radius)");
+                       std::to_string(particles_[i].id) + " (or a different radius or material)");
     }
   }
   if (state.boundary_loads.size() != boundary_count_) {

@@ -90,6 +90,11 @@ class HertzMindlin {
  public:
   /// Uses E, nu, restitution and friction of `material`; alpha(e) from hertz_damping.hpp.
   static HertzMindlin from_material(const Material& material);
+  /// Two materials a, b (pair_laws.hpp): E* and G* from pair_effective_young/_shear
+  /// (material.hpp), the pair's restitution e and friction mu given. from_pair(m, m,
+  /// m.restitution, m.friction) is bitwise from_material(m).
+  static HertzMindlin from_pair(const Material& a, const Material& b, double restitution,
+                                double friction);
 
   double restitution() const { return e_; }
   double friction() const { return mu_; }

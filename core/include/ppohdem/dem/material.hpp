@@ -1,7 +1,7 @@
 #pragma once
 /// \file material.hpp
-/// The one material of a scene (particles and walls share it) and the effective pair
-/// properties that the contact laws use.
+/// The material of a particle (a scene has one or several, simulation_setup.hpp) and the
+/// effective pair properties that the contact laws use.
 ///
 ///   mass        m = rho (4/3) pi R^3                              [kg]
 ///   moment      I = (2/5) m R^2  (solid sphere)                   [kg m^2]
@@ -9,8 +9,12 @@
 ///   pair        1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j            [Pa]   (Johnson 1985, 4.22)
 ///               1/G* = (2-nu_i)/G_i + (2-nu_j)/G_j                [Pa]   (Mindlin 1949)
 ///               1/R* = 1/R_i + 1/R_j,  1/m* = 1/m_i + 1/m_j        [m], [kg]
-/// A planar wall (or, later, a rigid object) has infinite radius and mass but the same
-/// elastic constants, so against a boundary R* = R, m* = m, and E*, G* as for a pair.
+/// A planar wall or a rigid object has infinite radius and mass and, unless the scene gives it
+/// a material, the elastic constants of the particle touching it, so against a boundary
+/// R* = R, m* = m, and E*, G* as for a pair of that material.
+/// Two DIFFERENT materials: E*, G* from the pair formulas above (pair_effective_young/_shear);
+/// when E and nu are equal they are evaluated in the one-material form E/(2(1-nu^2)),
+/// G/(2(2-nu)), so a pair of equal constants gives bitwise a one-material scene's numbers.
 #include <string>
 
 namespace ppohdem::dem {
@@ -32,6 +36,13 @@ struct Material {
 /// Throws InputError (naming `where`, e.g. "scene.toml") if a value is out of range:
 /// density > 0, 0 <= e <= 1, mu >= 0, and if `needs_elastic`, E > 0 and -1 < nu < 0.5.
 void validate(const Material& material, bool needs_elastic, const std::string& where);
+
+/// E* of two materials: 1/E* = (1-nu_a^2)/E_a + (1-nu_b^2)/E_b [Pa] (Johnson 1985, eq. 4.22);
+/// a.effective_young() if E and nu are equal. Symmetric bit for bit in (a, b).
+double pair_effective_young(const Material& a, const Material& b);
+/// G* of two materials: 1/G* = (2-nu_a)/G_a + (2-nu_b)/G_b [Pa] (Mindlin 1949; the tangential
+/// stiffness k_t = 8 G* sqrt(R* delta)); a.effective_shear() if E and nu are equal.
+double pair_effective_shear(const Material& a, const Material& b);
 
 /// Harmonic combination 1/(1/a + 1/b); used for R* and m*. b = infinity gives a.
 double harmonic_pair(double a, double b);

@@ -16,6 +16,9 @@ struct Particle {
   Vec3 velocity = Vec3::Zero();          ///< v [m/s]
   Vec3 angular_velocity = Vec3::Zero();  ///< omega [rad/s]
   double radius = 0.0;                   ///< R [m]
+  /// Index of the particle's material in the scene (SimulationSetup::material_at); 0 in a
+  /// one-material scene (CSV column `material`, by name)
+  std::uint16_t material = 0;
   Vec3 force = Vec3::Zero();   ///< contact force of the last force evaluation, no gravity [N]
   Vec3 torque = Vec3::Zero();  ///< contact torque about the centre, last evaluation [N m]
 };

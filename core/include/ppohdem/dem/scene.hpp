@@ -3,15 +3,24 @@
 /// Scene files (TOML). Every key, with units; keys not listed are errors that name the key.
 ///
 ///   [simulation] dt [s], steps, gravity = [gx, gy, gz] [m/s^2]
-///   [material]   density [kg/m^3], young [Pa], poisson, restitution, friction
+///   [material]   density [kg/m^3], young [Pa], poisson, restitution, friction, name
+///                (optional, default "default"): the scene's one material; OR
+///   [[material]] several materials (Hertz-Mindlin only), each with the keys above and a
+///                unique name (required; no ',' or '"'); the first is material 0. The two
+///                forms cannot be mixed (TOML refuses it). Pair laws: pair_laws.hpp.
+///   [[material_pair]] materials = ["a", "b"] (two different names), restitution and/or
+///                friction of that pair (otherwise min of the two materials' values)
 ///   [contact]    model = "hertz-mindlin" | "linear";
 ///                linear only: stiffness [N/m] or collision_time [s] (for two particles of
 ///                the mean radius), tangential_stiffness_ratio (default 2/7)
 ///   [particles]  file = "p.csv" (relative to the scene file), or
 ///                generator = "lattice" | "random", box_min, box_max [m], count, radius [m],
-///                radius_max [m] (optional), seed, velocity [m/s] (optional), jitter (lattice);
-///                allow_overlap = false
-///   [[wall]]     point [m], normal (into the domain), velocity [m/s] (optional)
+///                radius_max [m] (optional), seed, velocity [m/s] (optional), jitter (lattice),
+///                material = "name" or ["a", "b", ...] (generator only; id k gets entry
+///                (k - 1) mod n; default material 0); allow_overlap = false. A particle file
+///                may have a 12th column `material` (names; particle_csv.hpp)
+///   [[wall]]     point [m], normal (into the domain), velocity [m/s] (optional), material
+///                (optional name; default: each particle meets a wall of its own material)
 ///   [[object]]   a rigid object (distance_field_object.hpp), exactly one of
 ///                  distance = "phi.vtk"  legacy VTK STRUCTURED_POINTS, phi [m] < 0 inside
 ///                  mesh = "m.stl" with cells = [nx, ny, nz] and optional margin [m]
@@ -20,7 +29,7 @@
 ///                and the motion (all optional, default at rest): velocity [m/s],
 ///                axis (any length, normalised), omega [rad/s] about axis through centroid
 ///                [m] (default: the grid's centre), start [s] (default 0), stop [s]
-///                (default never), name (default "object N")
+///                (default never), name (default "object N"), material (as [[wall]])
 ///   [output]     dir (relative to the scene file), every (steps), formats = ["csv","vtk",
 ///                "pov"], progress = true (stderr)
 ///   [checks]     run diagnostics (run_diagnostics.hpp): max_overlap [-] (default 0.1 of the

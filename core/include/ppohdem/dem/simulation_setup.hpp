@@ -3,8 +3,11 @@
 /// Everything an engine needs to start, independent of any file format: the scene reader
 /// (scene.hpp) produces one, tests build them directly. Copyable (boundaries are shared and
 /// immutable).
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/contact_law.hpp"
@@ -15,16 +18,43 @@ namespace ppohdem::dem {
 
 using ContactLaw = std::variant<LinearSpringDashpot, HertzMindlin>;
 
+/// Restitution and/or friction of one pair of DIFFERENT materials, given explicitly (scene
+/// [[material_pair]]); what is not given follows the mixing rule of pair_laws.hpp.
+struct MaterialPairRule {
+  std::uint16_t a = 0;  ///< material index
+  std::uint16_t b = 0;  ///< material index, != a
+  std::optional<double> restitution;  ///< e of the pair [-]
+  std::optional<double> friction;     ///< mu of the pair [-]
+};
+
+/// At most this many materials in a scene (the pair-law table has count^2 entries).
+inline constexpr std::size_t kMaxMaterials = 64;
+
 struct SimulationSetup {
   double dt = 0.0;                 ///< time step [s]
   Vec3 gravity = Vec3::Zero();     ///< g [m/s^2]
-  Material material;
-  ContactLaw law;
+  Material material;               ///< material 0: the only one of a one-material scene
+  ContactLaw law;                  ///< the law of two particles of material 0 (pair_laws.hpp)
+  /// Multi-material scenes (Hertz-Mindlin only): materials 1, 2, ... (a particle with
+  /// Particle::material = k >= 1 is made of more_materials[k - 1]); empty for one material.
+  std::vector<Material> more_materials;
+  std::vector<std::string> material_names;  ///< names of all materials, or empty (unnamed)
+  std::vector<MaterialPairRule> material_pairs;  ///< explicit pair values (a != b)
+  /// Per boundary (same order as `boundaries`; missing entries mean -1): the index of the
+  /// boundary's material, or -1 for the material of the particle touching it (which is what
+  /// a one-material scene does).
+  std::vector<std::int32_t> boundary_materials;
   Particles particles;
   BoundaryList boundaries;         ///< walls (and later rigid objects)
   bool allow_initial_overlap = false;  ///< accept overlaps > 1% of the smaller radius
   bool force_time_step = false;        ///< accept dt above the stability limit (--force)
   std::string source;              ///< where it came from (scene file), for messages
+
+  std::size_t material_count() const { return 1 + more_materials.size(); }
+  /// Material k (0: `material`); k < material_count().
+  const Material& material_at(std::size_t k) const { return k == 0 ? material : more_materials[k - 1]; }
+  /// "material 'steel' (1)" or "material 1", for messages.
+  std::string material_label(std::size_t k) const;
 };
 
 /// A dt limit and how it was obtained (for the error message).
@@ -37,14 +67,17 @@ struct TimeStepLimit {
 /// (Li, Xu & Thornton 2005; Thornton & Randall 1988).
 double rayleigh_time(double radius, const Material& material);
 
-/// Hertz-Mindlin: 0.2 T_R(R_min) (the customary 20% of the Rayleigh time; LIGGGHTS warns
-/// above it). Linear: 0.2 pi sqrt(m*_min / k_n), 20% of the undamped half period of the
-/// lightest pair (Verlet is unstable above 2/omega_0 = 0.64 of it; 0.2 keeps ~15 steps per
-/// contact, the usual accuracy rule). m*_min = m_min/2 (pair), also covering walls (m* = m).
+/// Hertz-Mindlin: 0.2 min_i T_R(R_i, material_i) (the customary 20% of the Rayleigh time;
+/// LIGGGHTS warns above it; with one material the smallest particle's). Linear: 0.2 pi
+/// sqrt(m*_min / k_n), 20% of the undamped half period of the lightest pair (Verlet is
+/// unstable above 2/omega_0 = 0.64 of it; 0.2 keeps ~15 steps per contact, the usual accuracy
+/// rule). m*_min = m_min/2 (pair), also covering walls (m* = m).
 TimeStepLimit time_step_limit(const SimulationSetup& setup);
 
 /// Validates a setup before a run; throws InputError naming setup.source and the record:
-/// dt > 0 and finite; radius > 0 and every value finite; ids unique; material ranges;
+/// dt > 0 and finite; radius > 0 and every value finite; ids unique; material ranges; with
+/// several materials: Hertz-Mindlin law, at most kMaxMaterials, every particle's and
+/// boundary's material index in range, pair rules between two different known materials;
 /// dt <= time_step_limit (unless force_time_step; the message gives the limit); no pair
 /// overlapping by more than 1% of the smaller radius (unless allow_initial_overlap).
 void validate_setup(const SimulationSetup& setup);

@@ -1,0 +1,54 @@
+#include "ppohdem/dem/pair_laws.hpp"
+
+#include <algorithm>
+#include <type_traits>
+
+#include "ppohdem/error.hpp"
+
+namespace ppohdem::dem {
+
+PairCoefficients pair_coefficients(const SimulationSetup& setup, std::size_t a, std::size_t b) {
+  const Material& ma = setup.material_at(a);
+  const Material& mb = setup.material_at(b);
+  PairCoefficients c{std::min(ma.restitution, mb.restitution), std::min(ma.friction, mb.friction)};
+  if (a == b) return c;
+  for (const MaterialPairRule& r : setup.material_pairs) {
+    if ((r.a == a && r.b == b) || (r.a == b && r.b == a)) {
+      if (r.restitution) c.restitution = *r.restitution;
+      if (r.friction) c.friction = *r.friction;
+    }
+  }
+  return c;
+}
+
+template <class Law>
+PairLaws<Law>::PairLaws(const SimulationSetup& setup, const Law& law)
+    : n_(setup.material_count()), laws_(n_ * n_, law), boundary_material_(setup.boundary_materials) {
+  if constexpr (std::is_same_v<Law, LinearSpringDashpot>) {
+    if (n_ != 1) throw InputError(setup.source, 0, "the linear contact law takes one material only (pair_laws.hpp)");
+  } else {
+    for (std::size_t a = 0; a < n_; ++a) {
+      for (std::size_t b = a; b < n_; ++b) {
+        Law l = law;  // (0, 0): the setup's own law
+        if (a == b && a != 0) {
+          l = Law::from_material(setup.material_at(a));
+        } else if (a != b) {
+          const PairCoefficients c = pair_coefficients(setup, a, b);
+          l = Law::from_pair(setup.material_at(a), setup.material_at(b), c.restitution, c.friction);
+        }
+        laws_[a * n_ + b] = l;  // the same object both ways: symmetric bit for bit
+        laws_[b * n_ + a] = l;
+      }
+    }
+  }
+}
+
+template <class Law>
+bool PairLaws<Law>::any_friction() const {
+  return std::any_of(laws_.begin(), laws_.end(), [](const Law& l) { return l.friction() > 0.0; });
+}
+
+template class PairLaws<LinearSpringDashpot>;
+template class PairLaws<HertzMindlin>;
+
+}  // namespace ppohdem::dem
