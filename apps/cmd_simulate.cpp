@@ -11,6 +11,10 @@
 // --steps / --time-finish override the end of any scene (short test runs).
 //   --checkpoint-every N   write <dir>/checkpoint.bin every N steps and at the end
 //   --restart FILE         continue from a checkpoint to the scene's (or --steps') end step
+// Under `mpirun -n P` (P > 1) the fast engine decomposes the domain over the P ranks
+// (docs/dem.md "Domain decomposition"): the same files, byte for byte, as one rank (header
+// line aside), written by rank 0; checkpoints hold the whole system, so a run restarts at any
+// rank count. The reference engine runs on one rank only.
 // (docs/reliability.md; a run that fails a check exits 1 with a diagnosis).
 #include <cstdio>
 #include <fstream>
@@ -50,6 +54,7 @@ struct SimulateOptions {
   std::optional<std::string> initial; // compat: initial state file
   long checkpoint_every = 0;          // steps between checkpoints (0: none)
   std::string restart;                // checkpoint file to continue from
+  const Comm* comm = nullptr;         // the ranks this program runs on (mpirun)
 };
 
 const std::map<std::string, dem::EngineFactory>& engines() {
@@ -73,24 +78,52 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   if (factory == engines().end()) {
     throw InputError("--engine: expected 'reference', 'fast' or 'optimized', got '" + options.engine + "'");
   }
+  const int ranks = options.comm->size();
+  const bool root = options.comm->rank() == 0;
+  if (ranks > 1 && factory->second != &dem::fast::FastEngine::make) {
+    throw InputError("--engine " + options.engine + " runs on one rank only (this run has " + std::to_string(ranks) +
+                     " MPI ranks): use --engine fast (alias optimized), which decomposes the domain, or run "
+                     "without mpirun");
+  }
+  if (!root) scene.output.progress = false;
   const dem::TimeStepLimit limit = dem::time_step_limit(scene.setup);
-  auto engine = factory->second(scene.setup);  // validates (dt, overlaps, ...)
-  const std::string header = provenance_line() + "; engine " + engine->name();
-  std::fprintf(stderr, "%s\n", header.c_str());
-  std::fprintf(stderr, "simulate: %zu particles, %zu boundaries, dt %g s (limit %g s: %s), %ld steps\n",
-               engine->particles().size(), scene.setup.boundaries.size(), scene.setup.dt,
+  std::unique_ptr<dem::DemEngine> engine;  // validates (dt, overlaps, ...)
+  if (ranks > 1) {
+    dem::fast::FastOptions fast_options;
+    fast_options.comm = options.comm;
+    engine = std::make_unique<dem::fast::FastEngine>(scene.setup, fast_options);
+  } else {
+    engine = factory->second(scene.setup);
+  }
+  const std::string header = provenance_line(ranks) + "; engine " + engine->name();
+  const std::size_t particle_count = engine->particles().size();  // collective: on every rank
+  if (root) std::fprintf(stderr, "%s\n", header.c_str());
+  if (root && ranks > 1) {
+    const auto grid = dynamic_cast<const dem::fast::FastEngine&>(*engine).rank_grid();
+    std::fprintf(stderr, "simulate: domain decomposed over %d ranks (%d x %d x %d bricks)\n", ranks, grid[0], grid[1],
+                 grid[2]);
+  }
+  if (root) std::fprintf(stderr, "simulate: %zu particles, %zu boundaries, dt %g s (limit %g s: %s), %ld steps\n",
+               particle_count, scene.setup.boundaries.size(), scene.setup.dt,
                limit.limit, limit.reason.c_str(), scene.steps);
-  if (scene.setup.dt > limit.limit) {
+  if (root && scene.setup.dt > limit.limit) {
     std::fprintf(stderr, "warning: dt is above the stability limit (--force)\n");
   }
   dem::RunOptions run_options;
   if (options.checkpoint_every < 0) throw InputError("--checkpoint-every: expected >= 0 steps");
   run_options.checkpoint_every = options.checkpoint_every;
   run_options.scene_name = options.input;
+  if (ranks > 1) run_options.comm = options.comm;
   if (!options.restart.empty()) {
     run_options.restart = std::make_shared<const dem::Checkpoint>(dem::read_checkpoint(options.restart));
   }
   const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
+  std::vector<std::size_t> outside;  // samples outside each object's grid, all ranks
+  for (const dem::SceneObject& o : scene.objects) {
+    outside.push_back(static_cast<std::size_t>(
+        std::llround(options.comm->sum_over_ranks(static_cast<double>(o.object->outside_grid_count())))));
+  }
+  if (!root) return;  // rank 0 reports
   const double e0 = s.initial.total();
   const double e1 = s.final.total();
   std::printf("steps %ld, time %.6g s, wall %.3f s\n", s.steps, engine->time(), s.wall_seconds);
@@ -103,8 +136,8 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   const dem::ContactCounts c = engine->contact_counts();
   std::printf("contacts: %zu particle-particle, %zu particle-wall; escaped particles: %zu\n",
               c.particle_pairs, c.particle_boundary, s.escaped);
-  for (const dem::SceneObject& o : scene.objects) {
-    std::printf("%s: %zu samples outside its grid\n", o.object->describe().c_str(), o.object->outside_grid_count());
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    std::printf("%s: %zu samples outside its grid\n", scene.objects[k].object->describe().c_str(), outside[k]);
   }
   std::printf("checks: largest overlap %.3g %% of the radius (limit %.3g %%), largest energy growth "
               "%.3g %% (limit %.3g %%)\n", 100.0 * s.margins.overlap, 100.0 * scene.checks.max_overlap,
@@ -128,6 +161,7 @@ bool looks_like_legacy_input(const std::string& path) {
 
 void run_input(const SimulateOptions& options) {
   if (!options.compat.empty()) {
+    if (options.comm->size() > 1) throw InputError("--compat runs on one rank only (run it without mpirun)");
     run_simulate_compat(options.compat, options.input, options.initial, options.steps, options.quiet);
     return;
   }
@@ -144,8 +178,9 @@ void run_input(const SimulateOptions& options) {
 
 }  // namespace
 
-void register_simulate(CLI::App& app) {
+void register_simulate(CLI::App& app, const Comm& comm) {
   auto options = std::make_shared<SimulateOptions>();
+  options->comm = &comm;
   CLI::App* cmd = app.add_subcommand("simulate", "run a DEM scene (TOML) and write its outputs");
   cmd->add_option("scene", options->input, "scene file (TOML)")->required();
   cmd->add_option("--engine", options->engine, "engine: reference, fast (alias optimized)")->capture_default_str();

@@ -16,8 +16,18 @@ int main(int argc, char** argv) {
                                         " (git " + ppohdem::build_info::kGitHash + ")");
   ppohdem::app::register_mesh_info(app);
   ppohdem::app::register_voxelize(app, comm_environment.world());
-  ppohdem::app::register_simulate(app);
+  ppohdem::app::register_simulate(app, comm_environment.world());
   ppohdem::app::register_validate(app);
+  // Under mpirun an error may reach some ranks only (e.g. rank 0 cannot write a file): end all
+  // ranks then (MPI_Abort), rather than leave the others waiting in a collective.
+  const ppohdem::Comm& world = comm_environment.world();
+  auto failed = [&](int code) {
+    if (world.size() > 1) {
+      std::fflush(stderr);
+      world.abort(code);
+    }
+    return code;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -26,10 +36,10 @@ int main(int argc, char** argv) {
     return e.code;
   } catch (const ppohdem::InputError& e) {
     std::fprintf(stderr, "ppohdem: error: %s\n", e.what());
-    return 2;
+    return failed(2);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ppohdem: error: %s\n", e.what());
-    return 1;
+    return failed(1);
   }
   return 0;
 }

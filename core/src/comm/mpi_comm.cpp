@@ -2,6 +2,8 @@
 /// The ONLY file that includes <mpi.h>. MpiComm wraps MPI_COMM_WORLD behind the Comm interface.
 #include <mpi.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -48,6 +50,66 @@ class MpiComm final : public Comm {
   double broadcast_from_root(double value) const override {
     check(MPI_Bcast(&value, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD), "MPI_Bcast");
     return value;
+  }
+
+  // Counts first (MPI_Alltoall), then the bytes (MPI_Alltoallv). Every rank takes part even
+  // with nothing to send; for the few ranks of this machine the dense count exchange is cheap.
+  std::vector<Bytes> exchange(const std::vector<Bytes>& to) const override {
+    const int ranks = size();
+    if (to.size() != static_cast<std::size_t>(ranks)) throw std::runtime_error("exchange: one block per rank expected");
+    std::vector<int> send_counts(static_cast<std::size_t>(ranks)), recv_counts(static_cast<std::size_t>(ranks));
+    std::vector<int> send_offsets(static_cast<std::size_t>(ranks)), recv_offsets(static_cast<std::size_t>(ranks));
+    std::size_t send_total = 0;
+    for (std::size_t r = 0; r < to.size(); ++r) {
+      send_counts[r] = to_int_count(to[r].size());
+      send_offsets[r] = to_int_count(send_total);
+      send_total += to[r].size();
+    }
+    check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD),
+          "MPI_Alltoall");
+    std::size_t recv_total = 0;
+    for (std::size_t r = 0; r < recv_counts.size(); ++r) {
+      recv_offsets[r] = to_int_count(recv_total);
+      recv_total += static_cast<std::size_t>(recv_counts[r]);
+    }
+    Bytes send(send_total), recv(recv_total);
+    for (std::size_t r = 0; r < to.size(); ++r) {
+      std::copy(to[r].begin(), to[r].end(), send.begin() + send_offsets[r]);
+    }
+    check(MPI_Alltoallv(send.data(), send_counts.data(), send_offsets.data(), MPI_BYTE, recv.data(),
+                        recv_counts.data(), recv_offsets.data(), MPI_BYTE, MPI_COMM_WORLD),
+          "MPI_Alltoallv");
+    std::vector<Bytes> from(static_cast<std::size_t>(ranks));
+    for (std::size_t r = 0; r < from.size(); ++r) {
+      from[r].assign(recv.begin() + recv_offsets[r], recv.begin() + recv_offsets[r] + recv_counts[r]);
+    }
+    return from;
+  }
+
+  [[noreturn]] void abort(int code) const override {
+    MPI_Abort(MPI_COMM_WORLD, code);
+    std::abort();  // MPI_Abort does not return; in case it does
+  }
+
+  std::vector<Bytes> allgather(const Bytes& local) const override {
+    const int ranks = size();
+    int count = to_int_count(local.size());
+    std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks));
+    check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+    std::size_t total = 0;
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      offsets[r] = to_int_count(total);
+      total += static_cast<std::size_t>(counts[r]);
+    }
+    Bytes all(total);
+    check(MPI_Allgatherv(local.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                         MPI_COMM_WORLD),
+          "MPI_Allgatherv");
+    std::vector<Bytes> blocks(static_cast<std::size_t>(ranks));
+    for (std::size_t r = 0; r < blocks.size(); ++r) {
+      blocks[r].assign(all.begin() + offsets[r], all.begin() + offsets[r] + counts[r]);
+    }
+    return blocks;
   }
 
  private:

@@ -87,12 +87,19 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
                      std::ostream& log, const RunOptions& options) {
   namespace fs = std::filesystem;
   const OutputSpec& out = scene.output;
+  // Several ranks (RunOptions::comm): every rank runs this function, the engine's queries are
+  // collective (so they are made on every rank), rank 0 alone writes.
+  const bool writer = options.comm == nullptr || options.comm->rank() == 0;
+  auto global_count = [&](std::size_t local) -> std::int64_t {  // a sum of doubles: exact below 2^53
+    if (options.comm == nullptr) return static_cast<std::int64_t>(local);
+    return std::llround(options.comm->sum_over_ranks(static_cast<double>(local)));
+  };
   std::error_code ec;
-  fs::create_directories(out.dir, ec);
-  if (!fs::is_directory(out.dir)) {
+  if (writer) fs::create_directories(out.dir, ec);
+  if (writer && !fs::is_directory(out.dir)) {
     throw InputError(out.dir.string(), 0, "cannot create the output directory");
   }
-  if (const std::size_t stale = remove_stale_temp_files(out.dir); stale > 0) {
+  if (const std::size_t stale = writer ? remove_stale_temp_files(out.dir) : 0; stale > 0) {
     std::fprintf(stderr, "simulate: removed %zu temp files of interrupted runs from %s\n", stale,
                  out.dir.string().c_str());
   }
@@ -110,15 +117,17 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       const SceneObject& so = scene.objects[o];
       const BoundaryLoad load = so.boundary_index < loads.size() ? loads[so.boundary_index] : BoundaryLoad{};
-      object_log.add(step, engine.time(), o, *so.object, load, outside_offset[o]);
+      const std::size_t local = so.object->outside_grid_count();  // this rank's samples
+      object_log.add(step, engine.time(), o, *so.object, load,
+                     outside_offset[o] + global_count(local) - static_cast<std::int64_t>(local));
     }
   };
   auto warn_outside = [&] {
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       const DistanceFieldObject& object = *scene.objects[o].object;
-      if (!warned_outside[o] && object.outside_grid_count() > 0) {
+      if (!warned_outside[o] && global_count(object.outside_grid_count()) > 0) {
         warned_outside[o] = true;
-        std::fprintf(stderr, "warning: a particle was outside the distance grid of %s at t = %g s "
+        if (writer) std::fprintf(stderr, "warning: a particle was outside the distance grid of %s at t = %g s "
                      "(treated as far from the object; counted in objects.csv)\n",
                      object.describe().c_str(), engine.time());
       }
@@ -132,9 +141,17 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     object_ptrs.push_back(so.object);
     any_display_mesh = any_display_mesh || so.object->display_mesh() != nullptr;
   }
+  // A material column only with several materials (one-material outputs stay as they were).
+  const std::vector<std::string> material_column =
+      scene.setup.material_count() > 1 ? scene.setup.material_names : std::vector<std::string>{};
   auto write_frame = [&](long step) {
     const fs::path stem = out.dir / frame_stem(step);
-    if (out.csv) write_particles_csv(fs::path(stem).concat(".csv"), engine.particles(), header);
+    if (out.csv || out.vtk || out.pov) (void)engine.particles();  // collective: on every rank
+    if (!writer) {
+      if (out.csv || out.vtk || out.pov) ++summary.frames;
+      return;
+    }
+    if (out.csv) write_particles_csv(fs::path(stem).concat(".csv"), engine.particles(), header, material_column);
     if (out.vtk) write_vtk_frame(fs::path(stem).concat(".vtk"), engine.particles(), header);
     if (out.pov) write_pov_frame(fs::path(stem).concat(".pov"), engine.particles(), header, object_ptrs, engine.time());
     if ((out.vtk || out.pov) && any_display_mesh) {
@@ -157,8 +174,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
       const DistanceFieldObject& object = *scene.objects[o].object;
       const RigidTransform pose = object.pose_at(engine.time());
       c.objects.push_back({object.name(), pose.rotation, pose.translation,
-                           static_cast<std::uint64_t>(static_cast<std::int64_t>(object.outside_grid_count()) +
-                                                      outside_offset[o])});
+                           static_cast<std::uint64_t>(global_count(object.outside_grid_count()) + outside_offset[o])});
     }
     c.run.energy_rows = energy.rows();
     c.run.object_rows = object_log.rows();
@@ -182,14 +198,14 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     check_object_poses(scene, c, engine.time(), source);
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       outside_offset[o] = static_cast<std::int64_t>(c.objects[o].outside_grid) -
-                          static_cast<std::int64_t>(scene.objects[o].object->outside_grid_count());
+                          global_count(scene.objects[o].object->outside_grid_count());
     }
     if (c.run.energy_rows.empty()) throw InputError(source, 0, "checkpoint: no energy rows (step 0 is missing)");
     energy.set_rows(c.run.energy_rows);
     object_log.set_rows(c.run.object_rows);
     summary.frames = static_cast<std::size_t>(c.run.frames);
     summary.initial = parse_energy_row(c.run.energy_rows.front(), source);
-    std::fprintf(stderr, "simulate: restarted at step %ld (t = %g s) from a checkpoint of %s\n",
+    if (writer) std::fprintf(stderr, "simulate: restarted at step %ld (t = %g s) from a checkpoint of %s\n",
                  engine.step_count(), engine.time(), c.build.c_str());
   } else {
     summary.initial = engine.energies();
@@ -203,11 +219,15 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
       energy.add(engine.step_count(), engine.time(), e);
       log_objects(engine.step_count());
     }
-    energy.flush();
-    if (!scene.objects.empty()) object_log.flush();
+    if (writer) energy.flush();
+    if (writer && !scene.objects.empty()) object_log.flush();
     std::string note;
     try {
-      write_checkpoint(out.dir / kFailedCheckpointFile, make_checkpoint());
+      const Checkpoint failed = make_checkpoint();  // collective: on every rank
+      if (writer) write_checkpoint(out.dir / kFailedCheckpointFile, failed);
+      // Every rank throws below; the program may then end all ranks at once (MPI_Abort):
+      // not before rank 0 has written the logs and this checkpoint.
+      if (options.comm != nullptr) options.comm->barrier();
       note = " The state of that step is in " + (out.dir / kFailedCheckpointFile).string() + ".";
     } catch (const std::exception& ex) {
       note = std::string(" (no checkpoint of the failed state: ") + ex.what() + ")";
@@ -237,17 +257,18 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     }
     if (out.every > 0 && step % out.every == 0) {
       write_frame(step);
-      energy.flush();
-      if (!scene.objects.empty()) object_log.flush();
+      if (writer) energy.flush();
+      if (writer && !scene.objects.empty()) object_log.flush();
     }
     if (options.checkpoint_every > 0 && (step % options.checkpoint_every == 0 || step == scene.steps)) {
       // The logs first: every file on disk then covers at least the checkpoint's steps.
-      energy.flush();
-      if (!scene.objects.empty()) object_log.flush();
-      write_checkpoint(out.dir / kCheckpointFile, make_checkpoint());
+      if (writer) energy.flush();
+      if (writer && !scene.objects.empty()) object_log.flush();
+      const Checkpoint checkpoint = make_checkpoint();  // collective: on every rank
+      if (writer) write_checkpoint(out.dir / kCheckpointFile, checkpoint);
     }
     const long done = step - first_step, total = scene.steps - first_step;
-    if (out.progress && total >= 1000) {
+    if (writer && out.progress && total >= 1000) {
       const long percent = 100 * done / total;
       const auto now = clock::now();
       if (percent >= last_percent + 10 || now - last_report > std::chrono::seconds(5)) {
@@ -265,11 +286,13 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.final = engine.energies();
   summary.escaped = engine.escaped_count();
   summary.margins = diagnostics.margins();
-  log << "simulate: " << scene.steps - first_step << " steps of " << engine.particles().size()
+  const std::size_t particle_count = engine.particles().size();  // collective: on every rank
+  if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
-  energy.flush();
-  if (!scene.objects.empty()) object_log.flush();
-  write_particles_csv(out.dir / "final.csv", engine.particles(), header);
+  if (writer) energy.flush();
+  if (writer && !scene.objects.empty()) object_log.flush();
+  const Particles& final_particles = engine.particles();  // collective: on every rank
+  if (writer) write_particles_csv(out.dir / "final.csv", final_particles, header, material_column);
   return summary;
 }
 

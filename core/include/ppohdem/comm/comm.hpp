@@ -1,15 +1,20 @@
 #pragma once
 /// \file comm.hpp
 /// The communicator the optimized code talks to, and nothing else: a rank, a size, a barrier and
-/// the few collectives the SDF slab decomposition needs. MPI lives behind it in exactly one file
+/// the few collectives the SDF slab decomposition and the DEM domain decomposition need. MPI lives behind it in exactly one file
 /// (core/src/comm/mpi_comm.cpp, built only with PPOHDEM_ENABLE_MPI); the serial communicator is
 /// real behaviour for one rank (its gather copies), not a no-op (CoMD's parallel.c habit).
 #include <cstddef>
+#include <cstdlib>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace ppohdem {
+
+/// A message: raw bytes (packed and unpacked by the caller, e.g. core/src/dem/fast/pack.hpp).
+using Bytes = std::vector<unsigned char>;
 
 class Comm {
  public:
@@ -28,6 +33,14 @@ class Comm {
   virtual double sum_over_ranks(double value) const = 0;
   /// Rank 0's `value` on every rank.
   virtual double broadcast_from_root(double value) const = 0;
+  /// Personalised all-to-all: `to[r]` (to.size() == size()) goes to rank r; returns `from`
+  /// with from[r] = what rank r sent to this rank (empty blocks allowed). Collective.
+  virtual std::vector<Bytes> exchange(const std::vector<Bytes>& to) const = 0;
+  /// Every rank's block on every rank, in rank order (blocks may differ in length). Collective.
+  virtual std::vector<Bytes> allgather(const Bytes& local) const = 0;
+  /// Ends every rank of the program with exit status `code` (MPI_Abort): for an error met by
+  /// some ranks only, which would otherwise leave the others waiting in a collective.
+  [[noreturn]] virtual void abort(int code) const = 0;
 };
 
 /// One rank: gather returns the block itself, reductions return their argument.
@@ -45,6 +58,13 @@ class SerialComm final : public Comm {
   double max_over_ranks(double value) const override { return value; }
   double sum_over_ranks(double value) const override { return value; }
   double broadcast_from_root(double value) const override { return value; }
+  /// One rank sends to itself: the block is copied (real behaviour, not a no-op).
+  std::vector<Bytes> exchange(const std::vector<Bytes>& to) const override {
+    if (to.size() != 1) throw std::invalid_argument("SerialComm::exchange: expected one block (one rank)");
+    return {to[0]};
+  }
+  std::vector<Bytes> allgather(const Bytes& local) const override { return {local}; }
+  [[noreturn]] void abort(int code) const override { std::exit(code); }
 };
 
 /// True if this build has the MPI communicator (PPOHDEM_ENABLE_MPI).

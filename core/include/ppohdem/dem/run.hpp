@@ -18,6 +18,7 @@
 #include <ostream>
 #include <string>
 
+#include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/checkpoint.hpp"
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/run_diagnostics.hpp"
@@ -40,6 +41,11 @@ struct RunOptions {
   /// Continue from this checkpoint (read_checkpoint) instead of step 0.
   std::shared_ptr<const Checkpoint> restart;
   std::string scene_name;  ///< recorded in checkpoints (information)
+  /// Several ranks (an engine decomposed over them, e.g. fast::FastOptions::comm): every rank
+  /// calls run_scene; the engine's queries are collective and global, rank 0 alone writes the
+  /// files and the progress lines, and the objects' outside-grid counts are summed over ranks.
+  /// nullptr: one rank.
+  const Comm* comm = nullptr;
 };
 
 /// File names in the output directory.

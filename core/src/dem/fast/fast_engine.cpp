@@ -1,4 +1,5 @@
-// The fast engine: integration, cell sort and Verlet neighbour lists (fast_engine.hpp).
+// The fast engine: integration, cell sort, Verlet neighbour lists and the domain
+// decomposition over MPI ranks (fast_engine.hpp; docs/dem.md "Domain decomposition").
 #include "ppohdem/dem/fast/fast_engine.hpp"
 
 #include <algorithm>
@@ -8,8 +9,11 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "decomposition.hpp"
 #include "fast_state.hpp"
+#include "pack.hpp"
 #include "ppohdem/dem/cell_grid.hpp"
+#include "ppohdem/dem/pair_laws.hpp"
 #include "ppohdem/error.hpp"
 
 namespace ppohdem::dem::fast {
@@ -20,6 +24,7 @@ using Grid = CellGrid;  // ppohdem/dem/cell_grid.hpp (shared with the reference'
 
 Grid grid_for(const std::vector<Vec3>& x, double min_cell) { return cell_grid_for(x, min_cell); }
 
+/// a := (a[order[0]], a[order[1]], ...); order may be shorter than a (a selection).
 template <class T>
 void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
   std::vector<T> b(order.size());
@@ -36,9 +41,75 @@ TangentialSpring mirrored(const TangentialSpring& s) {
   return m;
 }
 
+/// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
+bool keeps_history(const TangentialSpring& s) { return s.stiffness != 0.0 || s.branch_i != Vec3::Zero() || s.displacement != Vec3::Zero(); }
+
 template <class T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
+}
+
+/// The contact history an owned particle carries across a list build (and to another rank):
+/// its side of every pair history keyed by the partner's global id (ascending), and its
+/// boundary records (ascending boundary). CSR over the owned particles in storage order.
+struct History {
+  std::vector<std::uint32_t> first{0};
+  std::vector<std::int64_t> partner_id;
+  std::vector<TangentialSpring> spring;
+  std::vector<std::uint32_t> record_first{0};
+  std::vector<BoundaryRecord> records;  ///< .particle is not used here
+
+  void append_from(const History& h, std::size_t k) {
+    for (std::uint32_t a = h.first[k]; a < h.first[k + 1]; ++a) {
+      partner_id.push_back(h.partner_id[a]);
+      spring.push_back(h.spring[a]);
+    }
+    first.push_back(static_cast<std::uint32_t>(partner_id.size()));
+    for (std::uint32_t a = h.record_first[k]; a < h.record_first[k + 1]; ++a) records.push_back(h.records[a]);
+    record_first.push_back(static_cast<std::uint32_t>(records.size()));
+  }
+  void pack(Packer& p, std::size_t k) const {
+    p.put(first[k + 1] - first[k]);
+    for (std::uint32_t a = first[k]; a < first[k + 1]; ++a) {
+      p.put(partner_id[a]);
+      p.put(spring[a]);
+    }
+    p.put(record_first[k + 1] - record_first[k]);
+    for (std::uint32_t a = record_first[k]; a < record_first[k + 1]; ++a) {
+      p.put(records[a].boundary);
+      p.put(records[a].spring);
+      p.put(records[a].force);
+      p.put(records[a].point);
+    }
+  }
+  void unpack_append(Unpacker& u) {
+    const auto springs = u.get<std::uint32_t>();
+    for (std::uint32_t a = 0; a < springs; ++a) {
+      partner_id.push_back(u.get<std::int64_t>());
+      spring.push_back(u.get<TangentialSpring>());
+    }
+    first.push_back(static_cast<std::uint32_t>(partner_id.size()));
+    const auto count = u.get<std::uint32_t>();
+    for (std::uint32_t a = 0; a < count; ++a) {
+      BoundaryRecord r;
+      u.get(r.boundary);
+      u.get(r.spring);
+      u.get(r.force);
+      u.get(r.point);
+      records.push_back(r);
+    }
+    record_first.push_back(static_cast<std::uint32_t>(records.size()));
+  }
+};
+
+void pack_particle(Packer& p, FastState& s, std::size_t k) {
+  for_each_particle_array(s, [&](auto& a) { p.put(a[k]); });
+}
+void unpack_particle(Unpacker& u, FastState& s) {
+  for_each_particle_array(s, [&](auto& a) {
+    a.emplace_back();
+    u.get(a.back());
+  });
 }
 
 }  // namespace
@@ -46,9 +117,13 @@ std::size_t bytes(const std::vector<T>& v) {
 struct FastEngine::Impl {
   FastState s;
   std::unique_ptr<ForceKernel> kernel;
-  Material material;
+  SimulationSetup setup_materials;  ///< the setup without particles: materials for restore_state
+  SerialComm serial;
+  const Comm* comm = &serial;
+  Decomposition decomposition;
+  std::size_t total = 0;  ///< particles of the whole system
   double skin = 0.0;      ///< [m]
-  double r_max = 0.0;     ///< [m]
+  double r_max = 0.0;     ///< [m], over the whole system
   long steps = 0;
   long builds = 0;
   double elastic = 0.0;
@@ -56,65 +131,185 @@ struct FastEngine::Impl {
   double boundary_work = 0.0;
   double power = 0.0;  ///< P(n) of the last evaluation [W]
   std::vector<BoundaryLoad> loads;
-  mutable Particles out;  ///< particles() in construction order
+  std::size_t escaped = 0;  ///< whole system
+  mutable Particles out;  ///< particles() in construction order (whole system)
   mutable bool out_valid = false;
+  // Halo plan (built at every list build, applied after every drift): send[r] = storage indices
+  // of the owned particles that rank r holds as ghosts, in the order they are packed; recv[r] =
+  // how many ghosts came from rank r (stored contiguously after the owned ones, by rank).
+  std::vector<std::vector<std::uint32_t>> halo_send;
+  std::vector<std::uint32_t> halo_recv;
+  /// Histories dropped at the last list build: (construction index, partner id, energy) [J].
+  std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
 
-  void load_particles(const Particles& particles, const Material& mat) {
-    const std::size_t n = particles.size();
+  bool distributed() const { return comm->size() > 1; }
+
+  /// Keeps the particles this rank owns (all of them on one rank).
+  void load_particles(const Particles& particles, const SimulationSetup& setup) {
     auto& q = s;
-    q.id.resize(n);
-    q.original.resize(n);
-    q.x.resize(n);
-    q.v.resize(n);
-    q.w.resize(n);
-    q.f.resize(n);
-    q.t.resize(n);
-    q.pv.resize(n);
-    q.pw.resize(n);
-    q.radius.resize(n);
-    q.mass.resize(n);
-    q.inertia.resize(n);
-    q.escaped_via.assign(n, 0);
-    q.elastic_p.assign(n, 0.0);
-    q.dissipated_p.assign(n, 0.0);
-    q.work_p.assign(n, 0.0);
-    q.power_p.assign(n, 0.0);
+    for_each_particle_array(q, [](auto& a) { a.clear(); });
+    total = particles.size();
     r_max = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
+    const int me = comm->rank();
+    for (std::size_t i = 0; i < particles.size(); ++i) {
       const Particle& p = particles[i];
-      q.id[i] = p.id;
-      q.original[i] = static_cast<std::uint32_t>(i);
-      q.x[i] = p.position;
-      q.v[i] = p.velocity;
-      q.w[i] = p.angular_velocity;
-      q.f[i] = p.force;
-      q.t[i] = p.torque;
-      q.pv[i] = p.velocity;
-      q.pw[i] = p.angular_velocity;
-      q.radius[i] = p.radius;
-      q.mass[i] = mat.mass(p.radius);
-      q.inertia[i] = mat.moment_of_inertia(p.radius);
       r_max = std::max(r_max, p.radius);
+      if (distributed() && decomposition.owner(p.position) != me) continue;
+      q.id.push_back(p.id);
+      q.original.push_back(static_cast<std::uint32_t>(i));
+      q.x.push_back(p.position);
+      q.v.push_back(p.velocity);
+      q.w.push_back(p.angular_velocity);
+      q.f.push_back(p.force);
+      q.t.push_back(p.torque);
+      q.pv.push_back(p.velocity);
+      q.pw.push_back(p.angular_velocity);
+      q.x_build.push_back(p.position);
+      q.radius.push_back(p.radius);
+      const Material& mat = setup.material_at(p.material);
+      q.material.push_back(p.material);
+      q.mass.push_back(mat.mass(p.radius));
+      q.inertia.push_back(mat.moment_of_inertia(p.radius));
+      q.escaped_via.push_back(0);
+      q.elastic_p.push_back(0.0);
+      q.dissipated_p.push_back(0.0);
+      q.work_p.push_back(0.0);
+      q.power_p.push_back(0.0);
     }
+    const std::size_t n = q.id.size();
+    q.owned = n;
     q.first.assign(n + 1, 0);
     q.partner.clear();
     q.spring.clear();
     q.records.clear();
     q.record_first.assign(n + 1, 0);
+    halo_send.assign(static_cast<std::size_t>(comm->size()), {});
+    halo_recv.assign(static_cast<std::size_t>(comm->size()), 0);
     out_valid = false;
   }
 
-  /// Sort the particles by cell and rebuild the full neighbour list (pairs closer than
-  /// R_i + R_j + skin), each particle's partners in ascending id; carry the contact histories
-  /// over by partner id.
+  /// What the owned particles carry across the build (History).
+  History take_history() const {
+    History h;
+    const std::size_t n = s.owned;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (s.friction && s.first.size() == n + 1) {
+        for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
+          if (!keeps_history(s.spring[slot])) continue;
+          h.partner_id.push_back(s.id[s.partner[slot]]);
+          h.spring.push_back(s.spring[slot]);
+        }
+      }
+      h.first.push_back(static_cast<std::uint32_t>(h.partner_id.size()));
+      if (s.record_first.size() == n + 1) {
+        for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) h.records.push_back(s.records[r]);
+      }
+      h.record_first.push_back(static_cast<std::uint32_t>(h.records.size()));
+    }
+    return h;
+  }
+
+  /// Migration (the migrate plan: each owned particle's new owner from its centre) with its
+  /// history; arrivals are appended in rank order.
+  void migrate(History& h) {
+    const int me = comm->rank();
+    std::vector<Bytes> to(static_cast<std::size_t>(comm->size()));
+    std::vector<std::uint32_t> keep;
+    History kept;
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      const int dest = decomposition.owner(s.x[k]);
+      if (dest == me) {
+        keep.push_back(static_cast<std::uint32_t>(k));
+        kept.append_from(h, k);
+        continue;
+      }
+      Packer p(to[static_cast<std::size_t>(dest)]);
+      pack_particle(p, s, k);
+      h.pack(p, k);
+    }
+    const std::vector<Bytes> from = comm->exchange(to);
+    for_each_particle_array(s, [&](auto& a) { permute(a, keep); });
+    for (const Bytes& block : from) {
+      Unpacker u(block);
+      while (!u.done()) {
+        unpack_particle(u, s);
+        kept.unpack_append(u);
+      }
+    }
+    s.owned = s.id.size();
+    h = std::move(kept);
+  }
+
+  /// Ghosts (the halo plan): every owned particle whose centre is within the interaction
+  /// range 2 R_max + skin of rank r's brick goes to rank r with all its fields.
+  void make_ghosts() {
+    const std::size_t ranks = static_cast<std::size_t>(comm->size());
+    halo_send.assign(ranks, {});
+    halo_recv.assign(ranks, 0);
+    if (!distributed()) return;
+    const int me = comm->rank();
+    const double reach = 2.0 * r_max + skin;
+    // Slack: bricks one part in 1e6 of the reach larger, so that the rounding of a brick face
+    // (relative 1e-16 of the coordinates) never hides a partner; extra ghosts cost nothing but
+    // memory (the list keeps only pairs within R_i + R_j + skin).
+    const double slack = 1e-6 * reach;
+    std::vector<Bytes> to(ranks);
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      for (int r = 0; r < static_cast<int>(ranks); ++r) {
+        if (r == me || decomposition.distance2(r, s.x[k], slack) >= reach * reach) continue;
+        halo_send[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(k));
+        Packer p(to[static_cast<std::size_t>(r)]);
+        pack_particle(p, s, k);
+      }
+    }
+    const std::vector<Bytes> from = comm->exchange(to);
+    for (std::size_t r = 0; r < ranks; ++r) {
+      Unpacker u(from[r]);
+      while (!u.done()) {
+        unpack_particle(u, s);
+        ++halo_recv[r];
+      }
+    }
+  }
+
+  /// The halo plan applied: the moving fields of the ghosts from their owners.
+  void refresh_ghosts() {
+    if (!distributed()) return;
+    const std::size_t ranks = halo_send.size();
+    std::vector<Bytes> to(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) {
+      Packer p(to[r]);
+      for (const std::uint32_t k : halo_send[r]) for_each_moving_array(s, [&](auto& a) { p.put(a[k]); });
+    }
+    const std::vector<Bytes> from = comm->exchange(to);
+    std::size_t g = s.owned;
+    for (std::size_t r = 0; r < ranks; ++r) {
+      Unpacker u(from[r]);
+      for (std::uint32_t c = 0; c < halo_recv[r]; ++c, ++g) for_each_moving_array(s, [&](auto& a) { u.get(a[g]); });
+    }
+  }
+
+  /// A list build: migration (several ranks), sort of the owned particles by cell, ghosts,
+  /// then the full neighbour list of the owned particles (pairs closer than R_i + R_j + skin,
+  /// each particle's partners in ascending id) and the histories carried over by partner id.
+  /// Collective: every rank builds at the same step (the decision is global).
   void build_lists() {
     ++builds;
     out_valid = false;
-    const std::size_t n = s.size();
-    if (n == 0) {
-      s.x_build.clear();
-      return;
-    }
+    History h = take_history();
+    for_each_particle_array(s, [&](auto& a) { a.resize(s.owned); });  // drop the ghosts
+    if (distributed()) migrate(h);
+    sort_owned_by_cell(h);
+    make_ghosts();
+    search_neighbours();
+    install_history(h);
+    add_lost_energy();
+  }
+
+  void sort_owned_by_cell(History& h) {
+    const std::size_t n = s.owned;
+    s.where.assign(total, kNotHere);
+    if (n == 0) return;
     const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
     // Counting sort by cell (stable): order[new] = old.
     std::vector<std::uint32_t> cell(n);
@@ -129,27 +324,40 @@ struct FastEngine::Impl {
       std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
       for (std::size_t i = 0; i < n; ++i) order[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
     }
-    std::vector<std::uint32_t> new_index(n);
-    for (std::size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<std::uint32_t>(k);
-    const std::vector<std::int64_t> old_id = s.id;
-    permute(s.id, order);
-    permute(s.original, order);
-    permute(s.x, order);
-    permute(s.v, order);
-    permute(s.w, order);
-    permute(s.f, order);
-    permute(s.t, order);
-    permute(s.pv, order);
-    permute(s.pw, order);
-    permute(s.radius, order);
-    permute(s.mass, order);
-    permute(s.inertia, order);
-    permute(s.escaped_via, order);
+    for_each_particle_array(s, [&](auto& a) { permute(a, order); });
+    History sorted;
+    for (const std::uint32_t k : order) sorted.append_from(h, k);
+    h = std::move(sorted);
     s.x_build = s.x;
-    s.where.resize(n);
     for (std::size_t k = 0; k < n; ++k) s.where[s.original[k]] = static_cast<std::uint32_t>(k);
+  }
 
-    // Neighbour search: two passes (count, fill), each particle independently.
+  /// Neighbour search over owned + ghost particles for the owned ones: two passes (count,
+  /// fill), each particle independently.
+  void search_neighbours() {
+    const std::size_t n = s.owned;
+    const std::size_t all = s.size();
+    std::vector<std::uint32_t> first(n + 1, 0);
+    if (n == 0) {
+      s.first.swap(first);
+      s.partner.clear();
+      return;
+    }
+    const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
+    // Members of each cell (counting sort of owned then ghosts; on one rank the owned
+    // particles are already in cell order, so members[k] = k).
+    std::vector<std::uint32_t> cell(all);
+    std::vector<std::uint32_t> start(grid.size() + 1, 0);
+    for (std::size_t i = 0; i < all; ++i) {
+      cell[i] = static_cast<std::uint32_t>(grid.linear(grid.index(s.x[i])));
+      ++start[cell[i] + 1];
+    }
+    for (std::size_t c = 0; c < grid.size(); ++c) start[c + 1] += start[c];
+    std::vector<std::uint32_t> members(all);
+    {
+      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+      for (std::size_t i = 0; i < all; ++i) members[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
+    }
     const double skin_ = skin;
     auto visit = [&](std::size_t i, auto&& emit) {
       const Index3 c = grid.index(s.x[i]);
@@ -162,14 +370,14 @@ struct FastEngine::Impl {
               continue;
             }
             const std::size_t cl = grid.linear(nb);
-            for (std::uint32_t j = start[cl]; j < start[cl + 1]; ++j) {  // sorted: cell cl is [start, start+1)
+            for (std::uint32_t m = start[cl]; m < start[cl + 1]; ++m) {
+              const std::uint32_t j = members[m];
               if (j == i) continue;
               const double reach = s.radius[i] + s.radius[j] + skin_;
               if ((s.x[i] - s.x[j]).squaredNorm() < reach * reach) emit(j);
             }
           }
     };
-    std::vector<std::uint32_t> first(n + 1, 0);
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t i = 0; i < n; ++i) {
       std::uint32_t count = 0;
@@ -185,50 +393,191 @@ struct FastEngine::Impl {
       std::sort(partner.begin() + first[i], partner.begin() + first[i + 1],
                 [&](std::uint32_t a, std::uint32_t b) { return s.id[a] < s.id[b]; });
     }
-    // Contact histories by partner id (both ranges ascending in id: a merge).
-    if (s.friction) {
-      std::vector<TangentialSpring> spring(partner.size());
-      for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t o = order[k];
-        std::uint32_t a = s.first.empty() ? 0 : s.first[o];
-        const std::uint32_t a_end = s.first.empty() ? 0 : s.first[o + 1];
-        for (std::uint32_t b = first[k]; b < first[k + 1]; ++b) {
-          const std::int64_t want = s.id[partner[b]];
-          for (; a < a_end && old_id[s.partner[a]] < want; ++a) lost(s.spring[a], s.id[k], old_id[s.partner[a]]);
-          if (a < a_end && old_id[s.partner[a]] == want) spring[b] = s.spring[a++];
-        }
-        for (; a < a_end; ++a) lost(s.spring[a], s.id[k], old_id[s.partner[a]]);
-      }
-      s.spring.swap(spring);
-    }
     s.first.swap(first);
     s.partner.swap(partner);
-    // Boundary records follow their particle.
-    for (BoundaryRecord& r : s.records) r.particle = new_index[r.particle];
-    std::stable_sort(s.records.begin(), s.records.end(), [](const BoundaryRecord& a, const BoundaryRecord& b) {
-      return a.particle < b.particle;
-    });
+  }
+
+  /// Pair histories by partner id (both ranges ascending in id: a merge); boundary records
+  /// follow their particle. A pair history whose partner is no longer in the list is lost.
+  void install_history(const History& h) {
+    const std::size_t n = s.owned;
+    if (s.friction) {
+      s.spring.assign(s.partner.size(), TangentialSpring{});
+      for (std::size_t k = 0; k < n; ++k) {
+        std::uint32_t a = h.first[k];
+        const std::uint32_t a_end = h.first[k + 1];
+        for (std::uint32_t b = s.first[k]; b < s.first[k + 1]; ++b) {
+          const std::int64_t want = s.id[s.partner[b]];
+          for (; a < a_end && h.partner_id[a] < want; ++a) lost(h.spring[a], k, h.partner_id[a]);
+          if (a < a_end && h.partner_id[a] == want) s.spring[b] = h.spring[a++];
+        }
+        for (; a < a_end; ++a) lost(h.spring[a], k, h.partner_id[a]);
+      }
+    }
+    s.records.clear();
     s.record_first.assign(n + 1, 0);
-    for (const BoundaryRecord& r : s.records) ++s.record_first[r.particle + 1];
-    for (std::size_t i = 0; i < n; ++i) s.record_first[i + 1] += s.record_first[i];
+    for (std::size_t k = 0; k < n; ++k) {
+      for (std::uint32_t r = h.record_first[k]; r < h.record_first[k + 1]; ++r) {
+        s.records.push_back(h.records[r]);
+        s.records.back().particle = static_cast<std::uint32_t>(k);
+      }
+      s.record_first[k + 1] = static_cast<std::uint32_t>(s.records.size());
+    }
   }
 
   /// A history dropped from the list (the pair moved apart by more than the skin within one
   /// step): its stored energy is dissipated, booked once (lower id side).
-  void lost(const TangentialSpring& spring, std::int64_t self, std::int64_t other) {
-    if (self < other) dissipated += spring.stored_energy();
+  void lost(const TangentialSpring& spring, std::size_t k, std::int64_t other) {
+    if (s.id[k] < other) lost_terms.emplace_back(s.original[k], other, spring.stored_energy());
+  }
+
+  /// The lost energies of this build, added in construction order (then partner id) on every
+  /// rank: independent of the decomposition and of the cell order.
+  void add_lost_energy() {
+    if (distributed()) {
+      Bytes mine;
+      Packer p(mine);
+      for (const auto& [o, other, e] : lost_terms) {
+        p.put(o);
+        p.put(other);
+        p.put(e);
+      }
+      lost_terms.clear();
+      for (const Bytes& block : comm->allgather(mine)) {
+        Unpacker u(block);
+        while (!u.done()) {
+          const auto o = u.get<std::uint32_t>();
+          const auto other = u.get<std::int64_t>();
+          lost_terms.emplace_back(o, other, u.get<double>());
+        }
+      }
+    }
+    std::sort(lost_terms.begin(), lost_terms.end());
+    for (const auto& term : lost_terms) dissipated += std::get<2>(term);
+    lost_terms.clear();
+  }
+
+  /// Per-particle terms of the WHOLE system in construction order, on every rank:
+  /// out[o * columns + c] = column c of particle o, filled by term(k, row) for owned k.
+  template <class Term>
+  std::vector<double> global_columns(std::size_t columns, Term term) const {
+    std::vector<double> all(total * columns, 0.0);
+    if (!distributed()) {
+      for (std::size_t k = 0; k < s.owned; ++k) term(k, &all[s.original[k] * columns]);
+      return all;
+    }
+    Bytes mine;
+    Packer p(mine);
+    std::vector<double> row(columns);
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      term(k, row.data());
+      p.put(s.original[k]);
+      for (const double v : row) p.put(v);
+    }
+    for (const Bytes& block : comm->allgather(mine)) {
+      Unpacker u(block);
+      while (!u.done()) {
+        const auto o = u.get<std::uint32_t>();
+        for (std::size_t c = 0; c < columns; ++c) u.get(all[o * columns + c]);
+      }
+    }
+    return all;
   }
 
   void evaluate_forces(double history_dt) {
     kernel->evaluate(s, static_cast<double>(steps) * s.dt, history_dt);
-    // Sums in construction order: independent of the cell sort (so of restarts and, later,
-    // of the decomposition) and of the thread count.
+    // What the sums need from every rank, in ONE allgather per evaluation (with several
+    // ranks): counts, the deepest contact, the per-particle energy terms and the boundary
+    // records. Sums in construction order: independent of the cell sort (so of restarts), of
+    // the decomposition and of the thread count.
+    struct Load {
+      std::uint32_t original, boundary;
+      Vec3 force, point;
+    };
+    std::vector<Load> all_records;
+    std::vector<double> terms(total * 4, 0.0);  // (elastic, dissipated, work, power) by construction index
+    std::size_t escaped_here = 0;
+    for (std::size_t k = 0; k < s.owned; ++k) escaped_here += s.escaped_via[k] != 0 ? 1 : 0;
+    if (!distributed()) {
+      for (std::size_t k = 0; k < s.owned; ++k) {
+        double* t = &terms[4 * s.original[k]];
+        t[0] = s.elastic_p[k];
+        t[1] = s.dissipated_p[k];
+        t[2] = s.work_p[k];
+        t[3] = s.power_p[k];
+      }
+      for (const BoundaryRecord& r : s.records) all_records.push_back({s.original[r.particle], r.boundary, r.force, r.point});
+      escaped = escaped_here;
+    } else {
+      Bytes mine;
+      Packer pk(mine);
+      pk.put(static_cast<std::uint64_t>(s.pair_contacts));
+      pk.put(static_cast<std::uint64_t>(s.boundary_contacts));
+      pk.put(static_cast<std::uint64_t>(escaped_here));
+      pk.put(static_cast<std::uint8_t>(s.deepest ? 1 : 0));
+      if (s.deepest) {
+        pk.put(s.deepest->ratio);
+        pk.put(s.deepest->overlap);
+        pk.put(s.deepest->id_a);
+        pk.put(s.deepest->id_b);
+        pk.put(s.deepest->boundary);
+      }
+      pk.put(static_cast<std::uint64_t>(s.owned));
+      for (std::size_t k = 0; k < s.owned; ++k) {
+        pk.put(s.original[k]);
+        pk.put(s.elastic_p[k]);
+        pk.put(s.dissipated_p[k]);
+        pk.put(s.work_p[k]);
+        pk.put(s.power_p[k]);
+      }
+      pk.put(static_cast<std::uint64_t>(s.records.size()));
+      for (const BoundaryRecord& r : s.records) {
+        pk.put(s.original[r.particle]);
+        pk.put(r.boundary);
+        pk.put(r.force);
+        pk.put(r.point);
+      }
+      s.pair_contacts = 0;
+      s.boundary_contacts = 0;
+      escaped = 0;
+      s.deepest.reset();
+      for (const Bytes& block : comm->allgather(mine)) {
+        Unpacker u(block);
+        s.pair_contacts += u.get<std::uint64_t>();
+        s.boundary_contacts += u.get<std::uint64_t>();
+        escaped += u.get<std::uint64_t>();
+        if (u.get<std::uint8_t>() != 0) {
+          // keep_deeper is a total order, so the rank order does not matter.
+          LargestOverlap c;
+          u.get(c.ratio);
+          u.get(c.overlap);
+          u.get(c.id_a);
+          u.get(c.id_b);
+          u.get(c.boundary);
+          keep_deeper(s.deepest, c);
+        }
+        const auto owned = u.get<std::uint64_t>();
+        for (std::uint64_t k = 0; k < owned; ++k) {
+          const auto o = u.get<std::uint32_t>();
+          for (int c = 0; c < 4; ++c) u.get(terms[4 * o + c]);
+        }
+        const auto records = u.get<std::uint64_t>();
+        for (std::uint64_t r = 0; r < records; ++r) {
+          Load l;
+          u.get(l.original);
+          u.get(l.boundary);
+          u.get(l.force);
+          u.get(l.point);
+          all_records.push_back(l);
+        }
+      }
+    }
     double e = 0.0, d = 0.0, w = 0.0, p = 0.0;
-    for (const std::uint32_t i : s.where) {
-      e += s.elastic_p[i];
-      d += s.dissipated_p[i];
-      w += s.work_p[i];
-      p += s.power_p[i];
+    for (std::size_t o = 0; o < total; ++o) {
+      e += terms[4 * o];
+      d += terms[4 * o + 1];
+      w += terms[4 * o + 2];
+      p += terms[4 * o + 3];
     }
     elastic = e;
     dissipated += d;
@@ -237,14 +586,12 @@ struct FastEngine::Impl {
     // evaluation (dt = 0) records P(0).
     boundary_work += 0.5 * (power + p) * history_dt;
     power = p;
-    loads.assign(s.boundaries.size(), BoundaryLoad{});
-    std::vector<const BoundaryRecord*> by_original(s.records.size());
-    for (std::size_t r = 0; r < s.records.size(); ++r) by_original[r] = &s.records[r];
-    std::sort(by_original.begin(), by_original.end(), [&](const BoundaryRecord* a, const BoundaryRecord* b) {
-      return std::pair(s.original[a->particle], a->boundary) < std::pair(s.original[b->particle], b->boundary);
+    // Boundary loads: the records of all ranks, summed in (construction index, boundary) order.
+    std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
+      return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
     });
-    for (const BoundaryRecord* rp : by_original) {
-      const BoundaryRecord& r = *rp;
+    loads.assign(s.boundaries.size(), BoundaryLoad{});
+    for (const Load& r : all_records) {
       loads[r.boundary].force -= r.force;
       loads[r.boundary].moment_about_origin += r.point.cross(-r.force);
     }
@@ -255,7 +602,7 @@ struct FastEngine::Impl {
     const double dt = s.dt;
     const double half = 0.5 * dt;
     const Vec3 g = s.gravity;
-    const std::size_t n = s.size();
+    const std::size_t n = s.owned;
     double largest = 0.0;  // max |x - x_build|^2 [m^2]
     // Half kick and drift (the reference's expressions, so the same bits).
     PPOHDEM_OMP(omp parallel for schedule(static) reduction(max : largest) if (n >= kParallelMin))
@@ -270,26 +617,27 @@ struct FastEngine::Impl {
       largest = std::max(largest, (s.x[i] - s.x_build[i]).squaredNorm());
     }
     ++steps;
-    if (largest > 0.25 * skin * skin) build_lists();  // largest displacement > skin / 2
+    if (distributed()) largest = comm->max_over_ranks(largest);  // the same decision on every rank
+    if (largest > 0.25 * skin * skin) {  // largest displacement > skin / 2
+      build_lists();
+    } else {
+      refresh_ghosts();
+    }
     evaluate_forces(dt);
-    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
-    for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t owned = s.owned;  // changed if the build migrated particles
+    PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
+    for (std::size_t i = 0; i < owned; ++i) {
       s.v[i] += half * (s.f[i] / s.mass[i] + g);
       s.w[i] += half * s.t[i] / s.inertia[i];
     }
     out_valid = false;
-  }
-
-  std::size_t storage_index_of(std::int64_t id, const std::unordered_map<std::int64_t, std::uint32_t>& map) const {
-    const auto it = map.find(id);
-    if (it == map.end()) throw InputError("restore_state: contact names unknown particle id " + std::to_string(id));
-    return it->second;
   }
 };
 
 FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl_(std::make_unique<Impl>()) {
   validate_setup(setup);
   Impl& m = *impl_;
+  if (options.comm != nullptr) m.comm = options.comm;
   m.s.dt = setup.dt;
   m.s.gravity = setup.gravity;
   m.s.boundaries = setup.boundaries;
@@ -303,12 +651,17 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
       m.s.walls[b].velocity = wall->velocity();
     }
   }
-  m.s.friction = std::visit([](const auto& law) { return law.friction() > 0.0; }, setup.law);
+  // Histories if any pair of materials has friction (pair_laws.hpp).
+  m.s.friction = std::visit([&](const auto& law) { return PairLaws(setup, law).any_friction(); }, setup.law);
   m.kernel = make_force_kernel(setup);
   for (auto& p : setup.particles) m.r_max = std::max(m.r_max, p.radius);
   m.skin = options.skin_fraction * m.r_max;
-  m.material = setup.material;
-  m.load_particles(setup.particles, setup.material);
+  std::vector<Vec3> centres;
+  for (const Particle& p : setup.particles) centres.push_back(p.position);
+  m.decomposition = Decomposition(m.comm->size(), centres);
+  m.setup_materials = setup;
+  m.setup_materials.particles.clear();  // only the materials are needed (restore_state)
+  m.load_particles(setup.particles, m.setup_materials);
   std::fill(m.s.f.begin(), m.s.f.end(), Vec3::Zero());  // the first evaluation sets them
   std::fill(m.s.t.begin(), m.s.t.end(), Vec3::Zero());
   m.build_lists();
@@ -324,21 +677,60 @@ std::unique_ptr<DemEngine> FastEngine::make(const SimulationSetup& setup) {
 void FastEngine::step() { impl_->step(); }
 long FastEngine::step_count() const { return impl_->steps; }
 double FastEngine::time() const { return static_cast<double>(impl_->steps) * impl_->s.dt; }
+int FastEngine::ranks() const { return impl_->comm->size(); }
+std::array<int, 3> FastEngine::rank_grid() const { return impl_->decomposition.dims(); }
+std::size_t FastEngine::owned_count() const { return impl_->s.owned; }
+std::size_t FastEngine::ghost_count() const { return impl_->s.size() - impl_->s.owned; }
 
 const Particles& FastEngine::particles() const {
   Impl& m = *impl_;
   if (!m.out_valid) {
     const FastState& s = m.s;
-    m.out.resize(s.size());
-    for (std::size_t k = 0; k < s.size(); ++k) {
-      Particle& p = m.out[s.original[k]];
+    m.out.resize(m.total);
+    auto fill = [&](std::uint32_t o, const Particle& p) { m.out[o] = p; };
+    Bytes mine;
+    Packer pk(mine);
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      Particle p;
       p.id = s.id[k];
       p.position = s.x[k];
       p.velocity = s.v[k];
       p.angular_velocity = s.w[k];
       p.radius = s.radius[k];
+      p.material = s.material[k];
       p.force = s.f[k];
       p.torque = s.t[k];
+      if (!m.distributed()) {
+        fill(s.original[k], p);
+        continue;
+      }
+      pk.put(s.original[k]);
+      pk.put(p.id);
+      pk.put(p.position);
+      pk.put(p.velocity);
+      pk.put(p.angular_velocity);
+      pk.put(p.radius);
+      pk.put(p.material);
+      pk.put(p.force);
+      pk.put(p.torque);
+    }
+    if (m.distributed()) {
+      for (const Bytes& block : m.comm->allgather(mine)) {
+        Unpacker u(block);
+        while (!u.done()) {
+          const auto o = u.get<std::uint32_t>();
+          Particle p;
+          u.get(p.id);
+          u.get(p.position);
+          u.get(p.velocity);
+          u.get(p.angular_velocity);
+          u.get(p.radius);
+          u.get(p.material);
+          u.get(p.force);
+          u.get(p.torque);
+          fill(o, p);
+        }
+      }
     }
     m.out_valid = true;
   }
@@ -348,11 +740,16 @@ const Particles& FastEngine::particles() const {
 Energies FastEngine::energies() const {
   const Impl& m = *impl_;
   const FastState& s = m.s;
+  const std::vector<double> terms = m.global_columns(3, [&](std::size_t i, double* t) {
+    t[0] = 0.5 * s.mass[i] * s.v[i].squaredNorm();
+    t[1] = 0.5 * s.inertia[i] * s.w[i].squaredNorm();
+    t[2] = s.mass[i] * s.gravity.dot(s.x[i]);
+  });
   Energies e;
-  for (const std::uint32_t i : s.where) {  // construction order (see evaluate_forces)
-    e.kinetic += 0.5 * s.mass[i] * s.v[i].squaredNorm();
-    e.rotational += 0.5 * s.inertia[i] * s.w[i].squaredNorm();
-    e.gravitational -= s.mass[i] * s.gravity.dot(s.x[i]);
+  for (std::size_t o = 0; o < m.total; ++o) {  // construction order (see evaluate_forces)
+    e.kinetic += terms[3 * o];
+    e.rotational += terms[3 * o + 1];
+    e.gravitational -= terms[3 * o + 2];
   }
   e.elastic = m.elastic;
   e.dissipated = m.dissipated;
@@ -364,10 +761,7 @@ ContactCounts FastEngine::contact_counts() const {
   return {impl_->s.pair_contacts, impl_->s.boundary_contacts};
 }
 
-std::size_t FastEngine::escaped_count() const {
-  return static_cast<std::size_t>(
-      std::count_if(impl_->s.escaped_via.begin(), impl_->s.escaped_via.end(), [](std::int32_t e) { return e != 0; }));
-}
+std::size_t FastEngine::escaped_count() const { return impl_->escaped; }
 
 std::vector<BoundaryLoad> FastEngine::boundary_loads() const { return impl_->loads; }
 
@@ -383,7 +777,7 @@ std::size_t FastEngine::neighbour_slots() const { return impl_->s.partner.size()
 std::size_t FastEngine::memory_bytes() const {
   const FastState& s = impl_->s;
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
-         bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) +
+         bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.elastic_p) + bytes(s.dissipated_p) + bytes(s.work_p) + bytes(s.power_p) + bytes(s.first) +
          bytes(s.partner) + bytes(s.spring) + bytes(s.records) + bytes(s.record_first);
 }
@@ -395,28 +789,55 @@ EngineState FastEngine::save_state() const {
   state.engine = name();
   state.step = m.steps;
   state.dt = s.dt;
-  state.particles = particles();
+  state.particles = particles();  // whole system (gathered)
   if (s.friction) {
-    for (std::size_t k = 0; k < s.size(); ++k) {
+    // This rank's records (pairs from the lower-id side, which is owned here), then all ranks'.
+    Bytes mine;
+    Packer pk(mine);
+    auto put = [&](ContactHistoryRecord::Kind kind, std::int64_t a, std::int64_t b, const TangentialSpring& sp) {
+      pk.put(kind);
+      pk.put(a);
+      pk.put(b);
+      pk.put(sp);
+    };
+    for (std::size_t k = 0; k < s.owned; ++k) {
       for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
         const TangentialSpring& sp = s.spring[slot];
         if (s.id[k] < s.id[j] && (sp.stiffness != 0.0 || sp.branch_i != Vec3::Zero())) {
-          state.contacts.push_back({ContactHistoryRecord::Kind::kParticlePair, s.id[k], s.id[j], sp});
+          put(ContactHistoryRecord::Kind::kParticlePair, s.id[k], s.id[j], sp);
         }
       }
     }
     for (const BoundaryRecord& r : s.records) {
-      state.contacts.push_back({ContactHistoryRecord::Kind::kParticleBoundary, s.id[r.particle],
-                                static_cast<std::int64_t>(r.boundary), r.spring});
+      put(ContactHistoryRecord::Kind::kParticleBoundary, s.id[r.particle], static_cast<std::int64_t>(r.boundary), r.spring);
+    }
+    for (const Bytes& block : m.comm->allgather(mine)) {
+      Unpacker u(block);
+      while (!u.done()) {
+        ContactHistoryRecord c;
+        u.get(c.kind);
+        u.get(c.id_a);
+        u.get(c.id_b);
+        u.get(c.spring);
+        state.contacts.push_back(c);
+      }
     }
     std::sort(state.contacts.begin(), state.contacts.end(), [](const auto& a, const auto& b) {
       return std::tuple(a.kind, a.id_a, a.id_b) < std::tuple(b.kind, b.id_a, b.id_b);
     });
   }
   state.accumulators = energies();
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    if (s.escaped_via[k] != 0) state.escaped_ids.push_back(s.id[k]);
+  {
+    Bytes mine;
+    Packer pk(mine);
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      if (s.escaped_via[k] != 0) pk.put(s.id[k]);
+    }
+    for (const Bytes& block : m.comm->allgather(mine)) {
+      Unpacker u(block);
+      while (!u.done()) state.escaped_ids.push_back(u.get<std::int64_t>());
+    }
   }
   std::sort(state.escaped_ids.begin(), state.escaped_ids.end());
   state.boundary_loads = m.loads;
@@ -428,14 +849,15 @@ EngineState FastEngine::save_state() const {
 void FastEngine::restore_state(const EngineState& state) {
   Impl& m = *impl_;
   FastState& s = m.s;
-  const Particles& current = particles();
+  const Particles& current = particles();  // whole system (collective)
   if (state.dt != s.dt) throw InputError("restore_state: the checkpoint's dt differs from the scene's");
   if (state.particles.size() != current.size()) {
     throw InputError("restore_state: the checkpoint has " + std::to_string(state.particles.size()) +
                      " particles, the scene " + std::to_string(current.size()));
   }
   for (std::size_t i = 0; i < current.size(); ++i) {
-    if (state.particles[i].id != current[i].id || state.particles[i].radius != current[i].radius) {
+    if (state.particles[i].id != current[i].id || state.particles[i].radius != current[i].radius ||
+        state.particles[i].material != current[i].material) {
       throw InputError("restore_state: particle " + std::to_string(i) + " (id " +
                        std::to_string(state.particles[i].id) + ") does not match the scene");
     }
@@ -443,58 +865,84 @@ void FastEngine::restore_state(const EngineState& state) {
   if (state.boundary_loads.size() != s.boundaries.size()) {
     throw InputError("restore_state: the checkpoint's boundary count differs from the scene's");
   }
-  m.load_particles(state.particles, m.material);
+  // Validate the records against the whole system on every rank (so that every rank throws
+  // or none does), then install each on the rank owning its particle.
+  std::unordered_map<std::int64_t, std::uint32_t> index_of;  // id -> construction index
+  for (std::size_t i = 0; i < state.particles.size(); ++i) index_of[state.particles[i].id] = static_cast<std::uint32_t>(i);
+  auto known = [&](std::int64_t id) {
+    if (!index_of.count(id)) throw InputError("restore_state: contact names unknown particle id " + std::to_string(id));
+  };
+  for (const std::int64_t id : state.escaped_ids) known(id);
+  for (const ContactHistoryRecord& c : state.contacts) {
+    known(c.id_a);
+    if (c.kind == ContactHistoryRecord::Kind::kParticleBoundary) {
+      if (c.id_b < 0 || static_cast<std::size_t>(c.id_b) >= s.boundaries.size()) {
+        throw InputError("restore_state: boundary index " + std::to_string(c.id_b) + " out of range");
+      }
+    } else {
+      known(c.id_b);
+    }
+  }
+  m.load_particles(state.particles, m.setup_materials);
   m.steps = state.step;
   m.elastic = state.accumulators.elastic;
   m.dissipated = state.accumulators.dissipated;
   m.boundary_work = state.accumulators.boundary_work;
   m.loads = state.boundary_loads;
   m.power = state.boundary_power;
+  m.escaped = state.escaped_ids.size();
   s.deepest.reset();  // of the evaluation before the checkpoint: not saved (as the reference)
+  m.build_lists();
   s.pair_contacts = state.contact_counts.particle_pairs;
   s.boundary_contacts = state.contact_counts.particle_boundary;
-  m.build_lists();
-  std::unordered_map<std::int64_t, std::uint32_t> where;
+  std::unordered_map<std::int64_t, std::uint32_t> where;  // id -> storage index (owned and ghosts)
   for (std::size_t k = 0; k < s.size(); ++k) where[s.id[k]] = static_cast<std::uint32_t>(k);
+  auto owned_index = [&](std::int64_t id) -> std::optional<std::size_t> {
+    const auto it = where.find(id);
+    if (it == where.end() || it->second >= s.owned) return std::nullopt;
+    return it->second;
+  };
   for (const std::int64_t id : state.escaped_ids) {
-    s.escaped_via[m.storage_index_of(id, where)] = 1;  // the boundary is only used in the warning
+    if (const auto k = owned_index(id)) s.escaped_via[*k] = 1;  // the boundary is only used in the warning
   }
   std::vector<BoundaryRecord> records;
+  bool misplaced = false;  // a pair record between particles that are not neighbours
   for (const ContactHistoryRecord& c : state.contacts) {
-    const std::size_t a = m.storage_index_of(c.id_a, where);
     if (c.kind == ContactHistoryRecord::Kind::kParticleBoundary) {
-      if (c.id_b < 0 || static_cast<std::size_t>(c.id_b) >= s.boundaries.size()) {
-        throw InputError("restore_state: boundary index " + std::to_string(c.id_b) + " out of range");
+      if (const auto a = owned_index(c.id_a)) {
+        BoundaryRecord r;
+        r.particle = static_cast<std::uint32_t>(*a);
+        r.boundary = static_cast<std::uint32_t>(c.id_b);
+        r.spring = c.spring;
+        records.push_back(r);
       }
-      BoundaryRecord r;
-      r.particle = static_cast<std::uint32_t>(a);
-      r.boundary = static_cast<std::uint32_t>(c.id_b);
-      r.spring = c.spring;
-      records.push_back(r);
       continue;
     }
     if (!s.friction) continue;
-    const std::size_t b = m.storage_index_of(c.id_b, where);
-    auto install = [&](std::size_t self, std::size_t other, const TangentialSpring& spring) {
-      const auto begin = s.partner.begin() + s.first[self];
-      const auto end = s.partner.begin() + s.first[self + 1];
-      const auto it = std::lower_bound(begin, end, s.id[other], [&](std::uint32_t j, std::int64_t id) { return s.id[j] < id; });
-      if (it == end || *it != other) {
-        throw InputError("restore_state: contact (" + std::to_string(c.id_a) + ", " + std::to_string(c.id_b) +
-                         ") is not between neighbouring particles");
+    auto install = [&](std::int64_t self_id, std::int64_t other_id, const TangentialSpring& spring) {
+      const auto self = owned_index(self_id);
+      if (!self) return;
+      const auto begin = s.partner.begin() + s.first[*self];
+      const auto end = s.partner.begin() + s.first[*self + 1];
+      const auto it = std::lower_bound(begin, end, other_id, [&](std::uint32_t j, std::int64_t id) { return s.id[j] < id; });
+      if (it == end || s.id[*it] != other_id) {
+        misplaced = true;
+        return;
       }
       s.spring[static_cast<std::size_t>(it - s.partner.begin())] = spring;
     };
-    install(a, b, c.spring);
-    install(b, a, mirrored(c.spring));
+    install(c.id_a, c.id_b, c.spring);
+    install(c.id_b, c.id_a, mirrored(c.spring));
   }
+  if (m.distributed()) misplaced = m.comm->max_over_ranks(misplaced ? 1.0 : 0.0) > 0.0;
+  if (misplaced) throw InputError("restore_state: a contact history joins particles that are not neighbours");
   std::sort(records.begin(), records.end(), [](const BoundaryRecord& x, const BoundaryRecord& y) {
     return std::pair(x.particle, x.boundary) < std::pair(y.particle, y.boundary);
   });
   s.records = std::move(records);
-  s.record_first.assign(s.size() + 1, 0);
+  s.record_first.assign(s.owned + 1, 0);
   for (const BoundaryRecord& r : s.records) ++s.record_first[r.particle + 1];
-  for (std::size_t i = 0; i < s.size(); ++i) s.record_first[i + 1] += s.record_first[i];
+  for (std::size_t i = 0; i < s.owned; ++i) s.record_first[i + 1] += s.record_first[i];
   m.out_valid = false;
 }
 

@@ -76,19 +76,27 @@ struct WallData {
 };
 
 struct FastState {
-  // --- per particle, storage order = cell order (permuted at every list build) ---
+  // --- per particle, storage order: [0, owned) this rank's particles in cell order (permuted
+  // at every list build), then [owned, size()) the ghosts (copies of other ranks' particles
+  // within the interaction range, in the order of the halo plan; none on one rank) ---
+  std::size_t owned = 0;
   std::vector<std::int64_t> id;
   std::vector<std::uint32_t> original;  ///< construction index (the seed's newtoorig)
   std::vector<std::uint32_t> where;     ///< inverse: storage index of construction index o
+                                        ///< (kNotHere if another rank owns it); not per particle
   std::vector<Vec3> x, v, w;            ///< position [m], v(n) or v(n+1/2) [m/s], omega [rad/s]
   std::vector<Vec3> f, t;               ///< contact force [N], torque [N m] (last evaluation)
   std::vector<Vec3> pv, pw;             ///< predicted v(n+1), omega(n+1) for the dashpots
   std::vector<Vec3> x_build;            ///< position at the last list build [m]
   std::vector<double> radius, mass, inertia;  ///< R [m], m [kg], I [kg m^2]
+  /// Material index (Particle::material; pair_laws.hpp). Per particle like radius and mass:
+  /// permuted with them, and to be packed with them for ghosts and migration.
+  std::vector<std::uint16_t> material;
   std::vector<std::int32_t> escaped_via;      ///< 0, or 1 + index of the boundary crossed first
   std::vector<double> elastic_p, dissipated_p, work_p;  ///< per-particle energy terms [J]
   std::vector<double> power_p;  ///< per-particle boundary power (F - F_d) . v_s [W]
-  // --- full neighbour list (CSR), each range sorted by the partner's id ---
+  // --- full neighbour list (CSR) of the owned particles, each range sorted by the partner's id;
+  // partners may be ghosts ---
   std::vector<std::uint32_t> first;    ///< n + 1 offsets
   std::vector<std::uint32_t> partner;  ///< storage index of the partner
   std::vector<TangentialSpring> spring;  ///< friction only: this side's mirrored history
@@ -110,7 +118,47 @@ struct FastState {
   std::size_t size() const { return id.size(); }
 };
 
-/// A force evaluation: contact forces and torques of every particle at time `time` with
+inline constexpr std::uint32_t kNotHere = 0xffffffffu;  ///< `where` of a particle owned elsewhere
+
+/// Calls f(array) for EVERY per-particle array of the state (storage order): the cell sort,
+/// migration and ghost creation move particles through this one list, so a new per-particle
+/// field is one line here (and nothing else to change in the decomposition).
+template <class State, class F>
+void for_each_particle_array(State& s, F&& f) {
+  f(s.id);
+  f(s.original);
+  f(s.x);
+  f(s.v);
+  f(s.w);
+  f(s.f);
+  f(s.t);
+  f(s.pv);
+  f(s.pw);
+  f(s.x_build);
+  f(s.radius);
+  f(s.mass);
+  f(s.inertia);
+  f(s.material);
+  f(s.escaped_via);
+  f(s.elastic_p);
+  f(s.dissipated_p);
+  f(s.work_p);
+  f(s.power_p);
+}
+
+/// The arrays that change every step and that a partner's force reads: refreshed on the ghosts
+/// after every drift (the halo plan's gather). Fixed per particle (radius, mass, ...) travel
+/// only when a ghost is created.
+template <class State, class F>
+void for_each_moving_array(State& s, F&& f) {
+  f(s.x);
+  f(s.v);
+  f(s.w);
+  f(s.pv);
+  f(s.pw);
+}
+
+/// A force evaluation: contact forces and torques of every OWNED particle at time `time` with
 /// history increment interval `dt` (0 at start-up); fills f, t, the energy terms, the new
 /// boundary records and the counts.
 class ForceKernel {

@@ -1,5 +1,6 @@
-// The fast engine's force kernel: one template per (law, friction, walls, other boundaries),
-// chosen once at construction (make_force_kernel). Each particle computes all of ITS contacts
+// The fast engine's force kernel: one template per (law, friction, walls, other boundaries,
+// several materials), chosen once at construction (make_force_kernel). A one-material scene
+// runs the kernel without the pair-law lookup (kMulti = false: the one law is a member). Each particle computes all of ITS contacts
 // from its own side (full neighbour list) in ascending order of the partner's id, then its
 // boundary contacts in boundary order: the order in which the reference engine adds them to
 // that particle (reference/src/dem/force_passes.hpp), with each contact bitwise the negation
@@ -8,10 +9,12 @@
 // the number of threads.
 #include <algorithm>
 #include <cstdio>
+#include <type_traits>
 #include <variant>
 
 #include "fast_state.hpp"
 #include "ppohdem/dem/material.hpp"
+#include "ppohdem/dem/pair_laws.hpp"
 
 namespace ppohdem::dem::fast {
 namespace {
@@ -25,15 +28,25 @@ inline bool has_history(const TangentialSpring& s) {
 /// harmonic_pair (material.cpp) for finite values, inline: a b / (a + b), symmetric in a, b.
 inline double pair_value(double a, double b) { return a * b / (a + b); }
 
-template <class Law, bool kFriction, bool kWalls, bool kOthers>
+template <class Law, bool kFriction, bool kWalls, bool kOthers, bool kMulti>
 class Kernel final : public ForceKernel {
  public:
-  explicit Kernel(Law law) : law_(std::move(law)) {}
+  explicit Kernel(const PairLaws<Law>& laws) : laws_(laws), law_(laws.pair(0, 0)) {}
+
+  /// The law of particles i and j (storage indices), and of particle i with boundary b.
+  const Law& pair_law(const FastState& s, std::size_t i, std::size_t j) const {
+    if constexpr (kMulti) return laws_.pair(s.material[i], s.material[j]);
+    return law_;
+  }
+  const Law& boundary_law(const FastState& s, std::size_t i, std::size_t b) const {
+    if constexpr (kMulti) return laws_.boundary(s.material[i], b);
+    return law_;
+  }
 
   // flatten: inline the contact law and contact_force.hpp into the loop (no change in the
   // arithmetic: GCC does not reassociate or contract without -ffast-math / FMA targets).
   [[gnu::flatten]] void evaluate(FastState& s, double time, double dt) const override {
-    const std::size_t n = s.size();
+    const std::size_t n = s.owned;  // ghosts ([owned, size())) are partners only
     const std::size_t nb = s.boundaries.size();
     if constexpr (kWalls) {
       for (std::size_t b = 0; b < nb; ++b) {
@@ -88,11 +101,11 @@ class Kernel final : public ForceKernel {
             TangentialSpring& sp = s.spring[slot];
             k.relative_displacement_previous_arms =
                 dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
-            f = frictional_contact_force(law_, k, sp, dt);
+            f = frictional_contact_force(pair_law(s, i, j), k, sp, dt);
             sp.branch_i = r_i;
             sp.branch_j = r_j;
           } else {
-            f = normal_contact_force(law_, k, dt);
+            f = normal_contact_force(pair_law(s, i, j), k, dt);
           }
           force += f.on_i;
           torque += r_i.cross(f.on_i);
@@ -171,10 +184,10 @@ class Kernel final : public ForceKernel {
               const Vec3 v_s = boundary_step_velocity(sp, continuing, c.surface_velocity);
               k.relative_displacement = dt * (s.v[i] + s.w[i].cross(r_a) - v_s);
               k.relative_displacement_previous_arms = dt * (s.v[i] + s.w[i].cross(sp.branch_i) - v_s);
-              f = frictional_contact_force(law_, k, sp, dt);
+              f = frictional_contact_force(boundary_law(s, i, b), k, sp, dt);
               sp.branch_i = r_a;
             } else {
-              f = normal_contact_force(law_, k, dt);
+              f = normal_contact_force(boundary_law(s, i, b), k, dt);
             }
             force += f.on_i;
             torque += r_a.cross(f.on_i);
@@ -225,19 +238,29 @@ class Kernel final : public ForceKernel {
   }
 
  private:
-  Law law_;
+  PairLaws<Law> laws_;  ///< kMulti only
+  Law law_;             ///< the one law (= laws_.pair(0, 0))
 };
 
+template <class Law, bool kFriction, bool kWalls, bool kOthers>
+std::unique_ptr<ForceKernel> with_materials(const PairLaws<Law>& laws) {
+  // The linear law has one material (pair_laws.hpp): no multi-material instance of it.
+  if constexpr (std::is_same_v<Law, HertzMindlin>) {
+    if (laws.materials() > 1) return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, true>>(laws);
+  }
+  return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, false>>(laws);
+}
+
 template <class Law, bool kFriction, bool kWalls>
-std::unique_ptr<ForceKernel> with_others(const Law& law, bool others) {
-  if (others) return std::make_unique<Kernel<Law, kFriction, kWalls, true>>(law);
-  return std::make_unique<Kernel<Law, kFriction, kWalls, false>>(law);
+std::unique_ptr<ForceKernel> with_others(const PairLaws<Law>& laws, bool others) {
+  if (others) return with_materials<Law, kFriction, kWalls, true>(laws);
+  return with_materials<Law, kFriction, kWalls, false>(laws);
 }
 
 template <class Law, bool kFriction>
-std::unique_ptr<ForceKernel> with_walls(const Law& law, bool walls, bool others) {
-  if (walls) return with_others<Law, kFriction, true>(law, others);
-  return with_others<Law, kFriction, false>(law, others);
+std::unique_ptr<ForceKernel> with_walls(const PairLaws<Law>& laws, bool walls, bool others) {
+  if (walls) return with_others<Law, kFriction, true>(laws, others);
+  return with_others<Law, kFriction, false>(laws, others);
 }
 
 }  // namespace
@@ -255,8 +278,9 @@ std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup) {
   return std::visit(
       [&](const auto& law) -> std::unique_ptr<ForceKernel> {
         using Law = std::decay_t<decltype(law)>;
-        if (law.friction() > 0.0) return with_walls<Law, true>(law, walls, others);
-        return with_walls<Law, false>(law, walls, others);
+        const PairLaws<Law> laws(setup, law);
+        if (laws.any_friction()) return with_walls<Law, true>(laws, walls, others);
+        return with_walls<Law, false>(laws, walls, others);
       },
       setup.law);
 }

@@ -18,26 +18,40 @@
 ///     so forces, torques and trajectories equal the reference's bit for bit;
 ///   - the contact history of a pair is kept twice (once per side, mirrored), keyed by the
 ///     partner's global id and carried over by id when the list is rebuilt;
-///   - energies and counts are summed per particle and then in construction order: the same
-///     for any thread count; they differ from the reference's single running sum by
-///     round-off (relative ~1e-15 per step);
+///   - energies and counts are summed per particle and then in construction order (histories
+///     dropped at a list build: by construction index, then partner id): the same for any
+///     thread count, storage order and rank count; they differ from the reference's single
+///     running sum by round-off (relative ~1e-15 per step);
 ///   - kernels are templates over (law, friction, walls, other boundaries) chosen once at
 ///     construction: a frictionless scene has no history code, a scene without walls no wall
 ///     loop; planar walls are evaluated inline (PlaneWall's formulas), other boundaries
 ///     (distance-field objects) through Boundary::contact.
-/// Not yet: MPI domain decomposition (the engine runs on one rank; see docs/dem.md).
+/// Domain decomposition over MPI ranks (FastOptions::comm; docs/dem.md "Domain decomposition"):
+/// Cartesian bricks, each rank owning the particles whose centre lies in its brick, ghosts
+/// within 2 R_max + skin of it; halo and migrate plans built at every list build (the rebuild
+/// decision is the maximum over ranks), the halo refreshed after every drift; contact
+/// histories migrate with their particle. Per-particle forces are summed in partner-id order
+/// and global sums in construction order, so the trajectories, energies and outputs are BIT
+/// FOR BIT those of one rank. With more than one rank, particles(), energies(), save_state()
+/// and restore_state() are collective (every rank calls them, in the same order) and return
+/// the whole system on every rank; the other queries are global values cached at each step.
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/engine.hpp"
 
 namespace ppohdem::dem::fast {
 
 struct FastOptions {
   double skin_fraction = 0.2;  ///< Verlet skin as a fraction of R_max [-]
+  /// Ranks to decompose the domain over (every rank constructs the engine from the same
+  /// setup); nullptr: one rank. Must outlive the engine.
+  const Comm* comm = nullptr;
 };
 
 class FastEngine final : public DemEngine {
@@ -63,6 +77,10 @@ class FastEngine final : public DemEngine {
   /// Deepest contact of the last evaluation (ties: smaller (boundary, id_a, id_b)).
   std::optional<LargestOverlap> largest_overlap() const override;
 
+  int ranks() const;                    ///< ranks the domain is decomposed over
+  std::array<int, 3> rank_grid() const;  ///< bricks per axis (product = ranks())
+  std::size_t owned_count() const;       ///< particles owned by this rank
+  std::size_t ghost_count() const;       ///< ghosts held by this rank (since the last build)
   long neighbour_list_builds() const;  ///< number of list builds so far (diagnostics)
   double skin() const;                 ///< [m]
   std::size_t neighbour_slots() const; ///< entries of the full list (diagnostics)

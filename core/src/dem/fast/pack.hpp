@@ -1,0 +1,79 @@
+#pragma once
+// Packing of particle data into the byte messages of the Comm interface (ppohdem/comm/comm.hpp)
+// for the fast engine's ghost exchange, migration and gathers. Private to core/src/dem/fast.
+// Values are copied byte for byte (memcpy), so a double arrives with the same bits.
+#include <cstddef>
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+#include <vector>
+
+#include "ppohdem/comm/comm.hpp"
+#include "ppohdem/dem/contact_force.hpp"
+
+namespace ppohdem::dem::fast {
+
+class Packer {
+ public:
+  explicit Packer(Bytes& out) : out_(out) {}
+  template <class T>
+  void put(const T& value) {
+    if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
+      raw(&value, sizeof value);
+    } else if constexpr (std::is_same_v<T, Vec3>) {
+      raw(value.data(), 3 * sizeof(double));
+    } else {
+      static_assert(std::is_same_v<T, TangentialSpring>, "Packer: no rule for this type");
+      put(value.displacement);
+      put(value.stiffness);
+      put(value.branch_i);
+      put(value.branch_j);
+      put(value.surface_velocity);
+    }
+  }
+
+ private:
+  void raw(const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    out_.insert(out_.end(), b, b + n);
+  }
+  Bytes& out_;
+};
+
+class Unpacker {
+ public:
+  explicit Unpacker(const Bytes& in) : in_(in) {}
+  template <class T>
+  void get(T& value) {
+    if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
+      raw(&value, sizeof value);
+    } else if constexpr (std::is_same_v<T, Vec3>) {
+      raw(value.data(), 3 * sizeof(double));
+    } else {
+      static_assert(std::is_same_v<T, TangentialSpring>, "Unpacker: no rule for this type");
+      get(value.displacement);
+      get(value.stiffness);
+      get(value.branch_i);
+      get(value.branch_j);
+      get(value.surface_velocity);
+    }
+  }
+  template <class T>
+  T get() {
+    T value{};
+    get(value);
+    return value;
+  }
+  bool done() const { return pos_ == in_.size(); }
+
+ private:
+  void raw(void* p, std::size_t n) {
+    if (pos_ + n > in_.size()) throw std::logic_error("fast engine: truncated message (pack/unpack mismatch)");
+    std::memcpy(p, in_.data() + pos_, n);
+    pos_ += n;
+  }
+  const Bytes& in_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace ppohdem::dem::fast
