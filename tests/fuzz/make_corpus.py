@@ -118,8 +118,17 @@ put("scene_toml", "settling_8.toml", settling)
 linear = (settling.replace('model = "hertz-mindlin"', 'model = "linear"\ncollision_time = 1.0e-4')
           .replace('generator = "lattice"', 'generator = "random"\nradius_max = 1.5e-3'))
 put("scene_toml", "linear_random_8.toml", linear)
+# two materials (docs/dem.md): [[material]] entries, a pair override, generator materials
+soft = settling.split("[material]")[1].split("\n[")[0]
+two = (settling.replace("[material]" + soft, "[[material]]\nname = \"soft\"" + soft
+                         + "\n[[material]]\nname = \"stiff\"" + soft.replace("young = 1.0e7", "young = 1.0e11")
+                         + "\n[[material_pair]]\nmaterials = [\"soft\", \"stiff\"]\nrestitution = 0.3\n")
+       .replace('generator = "lattice"', 'generator = "lattice"\nmaterial = ["soft", "stiff"]'))
+put("scene_toml", "two_materials_8.toml", two)
 
 # ---- particle CSV: the fixture and a commented variant as ppohdem writes it -----------------
 csv = read("scenes/two_spheres.csv")
 put("particle_csv", "two_spheres.csv", csv)
+put("particle_csv", "with_material.csv",
+    csv.replace(b"radius\n", b"radius,material\n").replace(b"0.0005\n", b"0.0005,glass\n"))
 put("particle_csv", "commented.csv", b"# ppohdem run header\n\n" + csv.replace(b",0,0,0,", b", 1e-3 ,0,0,"))
