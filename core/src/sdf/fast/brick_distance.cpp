@@ -15,6 +15,10 @@ namespace {
 constexpr std::size_t kLeafNodes = 8;
 constexpr std::size_t kFewCandidates = 8;
 constexpr int kMaxDepth = 8;
+/// Band mode, beyond the band: one transferred triangle per box of at most kTransferLeaf nodes per
+/// axis. Dragon 128^3, band 3 (2026-12-01, docs/performance.md): 2 gives 4.5 distance evaluations
+/// per node, max/RMS error 3.8/0.14 h; 4 gives 3.2 per node, 5.6/0.22 h (chosen: the speed target).
+constexpr int kTransferLeaf = 4;
 
 /// max(a, 0) written so that the compiler turns it into a vector max (no branch).
 inline double positive(double a) { return a > 0.0 ? a : 0.0; }
@@ -145,82 +149,210 @@ void BrickDistance::solve(const NodeBox& brick, const NodeBox& clip, TriangleTre
   // Sized once: the recursion holds references into these (never resized while in use).
   if (ws.level.size() < static_cast<std::size_t>(kMaxDepth + 1)) ws.level.resize(kMaxDepth + 1);
   if (ws.transfer_level.size() < static_cast<std::size_t>(kMaxDepth + 1)) ws.transfer_level.resize(kMaxDepth + 1);
+  if (std::isfinite(band_)) {
+    ws.brick_triangle = centre.triangle;
+    ws.brick_d2 = centre.squared_distance;
+    if (std::sqrt(centre.squared_distance) - half_diagonal(brick) > band_ + 2.0 * slack_) {
+      // No node of this brick is within the band (d(x) >= d(c) - r): transfer only, by 4^3 boxes.
+      for_each_child(brick, [&](const NodeBox& child) { transfer_box(child, ws, d2); });
+    } else {
+      band_box(brick, 0, ws.transfer, ws, d2);
+    }
+    return;
+  }
   solve_box(brick, 0, nullptr, centre, ws, d2);
 }
 
-void BrickDistance::transfer_box(const NodeBox& box, std::uint32_t extra, Workspace& ws, double* d2) const {
-  ws.transfer.push_back(extra);  // the box centre's own nearest triangle joins the set
-  transfer_rec(box, 0, ws.transfer, ws, d2);
-  ws.transfer.pop_back();
-}
-
-void BrickDistance::transfer_rec(const NodeBox& box, int depth, const std::vector<std::uint32_t>& set, Workspace& ws,
-                                 double* d2) const {
-  const auto& triangles = tree_.triangles();
+void BrickDistance::transfer_box(const NodeBox& box, Workspace& ws, double* d2) const {
   const NodeBox nodes = box.intersect(ws.clip);
   if (nodes.empty()) return;
+  const auto& triangles = tree_.triangles();
   const NodeBox& b = ws.brick;
   const int ex = b.extent(0), ey = b.extent(1);
-  // Keep only the triangles of the set that can be its nearest for some node of the box:
-  // bounding box within min_t dist(c, t) + r of the box (the exact part's Lipschitz argument
-  // applied to the set), so the minimum over the kept ones equals the minimum over the set.
+  // The set S: the nearest triangles of the 27 brick centres around and t_b, the brick centre's
+  // own. A triangle t can be the minimum of S at some node x of the box only if
+  // dist(c, t) - r <= dist(x, t) <= dist(x, t_c) <= dist(c, t_c) + r (c the box centre, t_c the
+  // set's nearest to c, r the half-diagonal): the kept set K gives every node the minimum over S.
   const Vec3 c = box_centre(box);
-  double best = std::numeric_limits<double>::infinity();
-  for (std::uint32_t t : set) best = std::min(best, squared_distance(c, triangles[t]));
-  ws.counters.distance_evaluations += set.size();
-  const double bound = (std::sqrt(best) + half_diagonal(box)) * (1.0 + 1e-12) + 3.0 * slack_;
+  const std::uint32_t tb = ws.brick_triangle;
+  double best = squared_distance(c, triangles[tb]);
+  ws.box_d2.resize(ws.transfer.size());
+  for (std::size_t s = 0; s < ws.transfer.size(); ++s) {
+    ws.box_d2[s] = squared_distance(c, triangles[ws.transfer[s]]);
+    best = std::min(best, ws.box_d2[s]);
+  }
+  ws.counters.distance_evaluations += ws.transfer.size() + 1;
+  const double keep = (std::sqrt(best) + 2.0 * half_diagonal(box)) * (1.0 + 1e-12) + 3.0 * slack_;
+  const double keep2 = keep * keep;
+  std::vector<std::uint32_t>& kept = ws.transfer_kept;
+  kept.clear();
+  kept.push_back(tb);  // t_b always: the bound below rests on it
+  for (std::size_t s = 0; s < ws.transfer.size(); ++s) {
+    if (ws.box_d2[s] <= keep2 && ws.transfer[s] != tb) kept.push_back(ws.transfer[s]);
+  }
+  // Per node ONE triangle of K: t_c, the nearest of K to the centre c' of the node's box of at
+  // most kTransferLeaf^3 nodes (t_c = t_b when K = {t_b}). Bound: dist(x, t_c) <= dist(c', t_c) +
+  // |x - c'| <= dist(c', t_b) + |x - c'| <= d(c_b) + |c' - c_b| + |x - c'| <= d(x) + |x - c_b| +
+  // |c' - c_b| + |x - c'| <= d(x) + 2 r_b + r' (r_b the brick's half-diagonal, r' that box's).
+  const auto per_child = [&](const NodeBox& child) {
+    const NodeBox part = child.intersect(ws.clip);
+    if (part.empty()) return;
+    std::uint32_t tc = tb;
+    if (kept.size() > 1) {
+      const Vec3 cc = box_centre(child);
+      double best_c = squared_distance(cc, triangles[tb]);
+      for (std::size_t s = 1; s < kept.size(); ++s) {
+        const double d = squared_distance(cc, triangles[kept[s]]);
+        if (d < best_c || (d == best_c && kept[s] < tc)) {
+          best_c = d;
+          tc = kept[s];
+        }
+      }
+      ws.counters.distance_evaluations += kept.size();
+    }
+    const PreparedTriangle& pc = triangles[tc];
+    for (int k = part.lo[2]; k < part.hi[2]; ++k) {
+      for (int j = part.lo[1]; j < part.hi[1]; ++j) {
+        double* row = d2 + static_cast<std::size_t>(((k - b.lo[2]) * ey + (j - b.lo[1])) * ex);
+        for (int i = part.lo[0]; i < part.hi[0]; ++i) row[i - b.lo[0]] = squared_distance(grid_.position(i, j, k), pc);
+      }
+    }
+    ws.counters.distance_evaluations += part.count();
+  };
+  // Split down to boxes of at most kTransferLeaf nodes per axis, unless K = {t_b}.
+  const auto split = [&](const auto& self, const NodeBox& part) -> void {
+    if (kept.size() == 1 || (part.extent(0) <= kTransferLeaf && part.extent(1) <= kTransferLeaf &&
+                             part.extent(2) <= kTransferLeaf)) {
+      per_child(part);
+      return;
+    }
+    for_each_child(part, [&](const NodeBox& child) { self(self, child); });
+  };
+  split(split, box);
+  ws.counters.transferred_nodes += nodes.count();
+}
+
+void BrickDistance::band_box(const NodeBox& box, int depth, const std::vector<std::uint32_t>& parent, Workspace& ws,
+                             double* d2) const {
+  if (box.intersect(ws.clip).empty()) return;
+  const auto& triangles = tree_.triangles();
   double lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
     lo[a] = grid_.origin[a] + static_cast<double>(box.lo[a]) * grid_.spacing[a];
     hi[a] = grid_.origin[a] + static_cast<double>(box.hi[a] - 1) * grid_.spacing[a];
   }
-  std::vector<std::uint32_t>& kept = ws.transfer_level[static_cast<std::size_t>(depth)];
-  kept.clear();
-  for (std::uint32_t t : set) {
+  const auto box_gap2 = [&](const PreparedTriangle& t) {
     double g2 = 0.0;
     for (int a = 0; a < 3; ++a) {
-      const double g = positive(triangles[t].lo[a] - hi[a]) + positive(lo[a] - triangles[t].hi[a]);
+      const double g = positive(t.lo[a] - hi[a]) + positive(lo[a] - t.hi[a]);
       g2 += g * g;
     }
-    if (g2 <= bound * bound && std::find(kept.begin(), kept.end(), t) == kept.end()) kept.push_back(t);
+    return g2;
+  };
+  // Candidates of this box: the triangles whose bounding box is within `near` of the box, with
+  // near = min(B, d(c) + r), B = the band plus slack, c the box centre, r its half-diagonal.
+  // A node x of the box has d(x) <= dist(x, t_c) <= d_S(c) + r (t_c the nearest triangle to c
+  // found, d_S(c) its distance), and its nearest triangle's bounding box is within d(x) of x:
+  // so if d(x) <= band, or if near = d_S(c) + r, that triangle is a candidate and the node's
+  // minimum over the candidates is its minimum over ALL triangles (any other triangle is
+  // computed farther than near: B and the Lipschitz radius include the slack).
+  const double bound = band_ * (1.0 + 1e-12) + 3.0 * slack_;
+  const double r = half_diagonal(box);
+  const Vec3 c = box_centre(box);
+  std::vector<std::uint32_t>& kept = ws.transfer_level[static_cast<std::size_t>(depth)];
+  kept.clear();
+  std::uint32_t tc = ws.brick_triangle;
+  double dc = 0.0;
+  if (depth == 0) {
+    dc = std::sqrt(ws.brick_d2);  // the brick centre's exact distance (its BVH query)
+    const double near = std::min(bound, (dc + r) * (1.0 + 1e-12) + 3.0 * slack_);
+    tree_.collect_near_box(lo, hi, near * near, kept);
+  } else {
+    const double bound2 = bound * bound;
+    for (std::uint32_t t : parent) {
+      if (box_gap2(triangles[t]) <= bound2) kept.push_back(t);
+    }
+    // The minimum at c over t_b and the candidates (pruned by their bounding boxes).
+    double best = squared_distance(c, triangles[tc]);
+    double rb = std::sqrt(best) + slack_;
+    double prune = rb * rb;
+    for (std::uint32_t t : kept) {
+      const PreparedTriangle& tri = triangles[t];
+      const double gx = positive(tri.lo[0] - c.x()) + positive(c.x() - tri.hi[0]);
+      const double gy = positive(tri.lo[1] - c.y()) + positive(c.y() - tri.hi[1]);
+      const double gz = positive(tri.lo[2] - c.z()) + positive(c.z() - tri.hi[2]);
+      if (gx * gx + gy * gy + gz * gz > prune) continue;
+      const double d = squared_distance(c, tri);
+      ++ws.counters.distance_evaluations;
+      if (d < best) {
+        best = d;
+        tc = t;
+        rb = std::sqrt(best) + slack_;
+        prune = rb * rb;
+      }
+    }
+    dc = std::sqrt(best);
+    if (dc - r > band_ + 2.0 * slack_) {  // d(x) >= d(c) - r > band: no band node in the box
+      transfer_box(box, ws, d2);
+      return;
+    }
+    const double near = (dc + r) * (1.0 + 1e-12) + 3.0 * slack_;
+    if (near < bound) {
+      const double near2 = near * near;
+      kept.erase(std::remove_if(kept.begin(), kept.end(),
+                                [&](std::uint32_t t) { return box_gap2(triangles[t]) > near2; }),
+                 kept.end());
+    }
   }
-  if (kept.size() > 1 && box.count() > kLeafNodes && depth < kMaxDepth) {
-    // Halve the box: smaller boxes keep fewer triangles (same values, fewer evaluations).
-    for_each_child(box, [&](const NodeBox& child) { transfer_rec(child, depth + 1, kept, ws, d2); });
+  if (kept.empty()) {
+    transfer_box(box, ws, d2);  // no triangle within the band of the box
     return;
   }
+  if (box.count() > kLeafNodes && depth < kMaxDepth) {
+    for_each_child(box, [&](const NodeBox& child) { band_box(child, depth + 1, kept, ws, d2); });
+    return;
+  }
+  // The leaf: candidates as arrays of bounding boxes (vectorized lower bounds, scan()).
+  Workspace::Candidates& cand = ws.leaf;
+  cand.triangles = true;
+  const std::size_t n = kept.size();
+  cand.index.assign(kept.begin(), kept.end());
+  for (int a = 0; a < 3; ++a) {
+    cand.lo[a].resize(n);
+    cand.hi[a].resize(n);
+    for (std::size_t s = 0; s < n; ++s) {
+      cand.lo[a][s] = triangles[kept[s]].lo[a];
+      cand.hi[a][s] = triangles[kept[s]].hi[a];
+    }
+  }
+  const NodeBox nodes = box.intersect(ws.clip);
+  const NodeBox& b = ws.brick;
+  const int ex = b.extent(0), ey = b.extent(1);
+  const double band2 = band_ * band_;
+  std::uint32_t hint = tc;
   for (int k = nodes.lo[2]; k < nodes.hi[2]; ++k) {
     for (int j = nodes.lo[1]; j < nodes.hi[1]; ++j) {
       for (int i = nodes.lo[0]; i < nodes.hi[0]; ++i) {
         const Vec3 p = grid_.position(i, j, k);
-        double value = squared_distance(p, triangles[kept[0]]);
-        for (std::size_t s = 1; s < kept.size(); ++s) value = std::min(value, squared_distance(p, triangles[kept[s]]));
-        d2[static_cast<std::size_t>(((k - b.lo[2]) * ey + (j - b.lo[1])) * ex + (i - b.lo[0]))] = value;
+        TriangleTree::Nearest nn = scan(cand, p, hint, ws);
+        hint = nn.triangle;
+        if (nn.squared_distance <= band2) {
+          ++ws.counters.exact_nodes;
+        } else {
+          // Beyond the band: an upper bound; t_b keeps the transfer's proven bound.
+          nn.squared_distance = std::min(nn.squared_distance, squared_distance(p, triangles[ws.brick_triangle]));
+          ++ws.counters.transferred_nodes;
+        }
+        d2[static_cast<std::size_t>(((k - b.lo[2]) * ey + (j - b.lo[1])) * ex + (i - b.lo[0]))] = nn.squared_distance;
       }
     }
   }
-  ws.counters.distance_evaluations += kept.size() * nodes.count();
-  ws.counters.transferred_nodes += nodes.count();
 }
 
 void BrickDistance::solve_box(const NodeBox& box, int depth, const Workspace::Candidates* parent,
                               TriangleTree::Nearest centre, Workspace& ws, double* d2) const {
   const double r = half_diagonal(box);
   const double dc = std::sqrt(centre.squared_distance);
-  if (std::isfinite(band_) && dc - r > band_ + 2.0 * slack_) {
-    // No node of this box is within the band (d(x) >= d(c) - r): closest-triangle transfer.
-    transfer_box(box, centre.triangle, ws, d2);
-    return;
-  }
-  if (!shared_ && std::isfinite(band_) && box.count() > kLeafNodes && depth < kMaxDepth) {
-    // Band mode: halve the box so that its parts beyond the band are transferred, not queried.
-    for_each_child(box, [&](const NodeBox& child) {
-      if (child.intersect(ws.clip).empty()) return;
-      const TriangleTree::Nearest child_centre = tree_.nearest(box_centre(child), centre.triangle);
-      solve_box(child, depth + 1, nullptr, child_centre, ws, d2);
-    });
-    return;
-  }
   if (!shared_) {
     // Per-node BVH queries, each started from the previous node's nearest triangle.
     const NodeBox nodes = box.intersect(ws.clip);

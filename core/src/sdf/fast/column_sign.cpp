@@ -273,6 +273,36 @@ void ColumnSign::inside_on_segment(int j, int k, int i_begin, int i_end, char* i
   }
 }
 
+void ColumnSign::inside_on_column(int i, int j, int k_begin, int k_end, char* inside, std::size_t stride) const {
+  const int nx = grid_.nodes[0];
+  const std::size_t column = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * static_cast<std::size_t>(j);
+  const Crossing* const end = crossings_.data() + column_start_[column + 1];
+  const Crossing* above = crossings_.data() + column_start_[column];
+  if (k_begin < k_end) {  // the first node by binary search, as inside_on_segment
+    const double z0 = grid_.position(0, j, k_begin).z();
+    above = std::upper_bound(above, end, z0, [](double value, const Crossing& c) { return value < c.z; });
+  }
+  for (int k = k_begin; k < k_end; ++k) {
+    // z grows with k, so the first crossing strictly above z only moves up (same tie rule as
+    // inside_on_segment's upper_bound: a crossing at z itself is not above).
+    const double z = grid_.position(0, j, k).z();
+    while (above != end && !(z < above->z)) ++above;
+    char* out = inside + static_cast<std::size_t>(k - k_begin) * stride;
+    if (!winding_) {
+      *out = ((end - above) % 2) == 1;
+      continue;
+    }
+    const double integer_winding = above == end ? 0.0 : static_cast<double>(above->direction);
+    double cone = 0.0;
+    if (!cone_.empty()) {
+      const Vec3 p = grid_.position(i, j, k);
+      for (const Triangle& t : cone_) cone += solid_angle(p, t.v[0], t.v[1], t.v[2]);
+      cone /= 4.0 * std::numbers::pi;
+    }
+    *out = (integer_winding - cone) > 0.5;
+  }
+}
+
 std::size_t ColumnSign::memory_bytes() const {
   return column_start_.capacity() * sizeof(std::uint32_t) + crossings_.capacity() * sizeof(Crossing) +
          cone_.capacity() * sizeof(Triangle);

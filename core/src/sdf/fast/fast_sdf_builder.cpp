@@ -136,7 +136,7 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
     {
       fast::BrickDistance::Workspace ws;
       std::vector<double> d2(static_cast<std::size_t>(kBrick * kBrick * kBrick));
-      std::vector<char> inside(static_cast<std::size_t>(kBrick));
+      std::vector<char> inside(static_cast<std::size_t>(kBrick * kBrick * kBrick));
       std::vector<std::uint32_t> transfer;
 #if defined(PPOHDEM_WITH_OPENMP)
 #pragma omp for schedule(dynamic, 1)
@@ -164,15 +164,24 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
         bricks.solve(brick, slab_box, centre_at(bi, bj, bk), transfer, ws, d2.data());
         const fast::NodeBox nodes = brick.intersect(slab_box);
         const int ex = brick.extent(0), ey = brick.extent(1);
+        // Signs of the brick's nodes, one walk up each z-column (indexed as d2).
+        const std::size_t layer = static_cast<std::size_t>(ex) * static_cast<std::size_t>(ey);
+        for (int j = nodes.lo[1]; j < nodes.hi[1]; ++j) {
+          for (int i = nodes.lo[0]; i < nodes.hi[0]; ++i) {
+            const std::size_t at = static_cast<std::size_t>(((nodes.lo[2] - brick.lo[2]) * ey + (j - brick.lo[1])) * ex +
+                                                            (i - brick.lo[0]));
+            sign.inside_on_column(i, j, nodes.lo[2], nodes.hi[2], inside.data() + at, layer);
+          }
+        }
         for (int k = nodes.lo[2]; k < nodes.hi[2]; ++k) {
           for (int j = nodes.lo[1]; j < nodes.hi[1]; ++j) {
-            sign.inside_on_segment(j, k, nodes.lo[0], nodes.hi[0], inside.data());
+            const char* in = inside.data() + static_cast<std::size_t>(((k - brick.lo[2]) * ey + (j - brick.lo[1])) * ex);
             T* row = out.data() + static_cast<std::size_t>(k - slab.k_begin) * plane +
                      static_cast<std::size_t>(j) * static_cast<std::size_t>(nx);
             const double* src = d2.data() + static_cast<std::size_t>(((k - brick.lo[2]) * ey + (j - brick.lo[1])) * ex);
             for (int i = nodes.lo[0]; i < nodes.hi[0]; ++i) {
               const double distance = std::sqrt(src[i - brick.lo[0]]);
-              const double phi = inside[static_cast<std::size_t>(i - nodes.lo[0])] ? -distance : distance;
+              const double phi = in[i - brick.lo[0]] ? -distance : distance;
               row[i] = static_cast<T>(phi);
               negatives += phi < 0.0 ? 1 : 0;
             }

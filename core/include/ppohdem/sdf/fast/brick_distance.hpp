@@ -25,17 +25,27 @@
 ///  times the rounding of one distance), so the pruning is conservative and the result is the
 ///  same minimum as a brute-force loop over all triangles.
 ///
-/// Band part (band mode only, band_distance finite): the brick (8^3) and then its halves are
-///   tested with the exact distance at their centre: a box with d(c) - r > band cannot hold a
-///   node with d <= band (Lipschitz). Its nodes take the minimum of the exact distance to a few
-///   "transferred" triangles: the nearest triangles of the centres of the 27 bricks around (and
-///   including) the node's brick and of the box itself; the box is halved down to 2^3 nodes
-///   while more than one triangle survives the filter "bounding box within min_t dist(c, t) + r
-///   of the box" (which keeps every triangle that can be the set's minimum at some node, so the
-///   halving changes no value, only the work). The value is the distance to a real triangle, so
-///   never below the truth, and at most d(x) + 2 r above it (the box centre's own triangle is in
-///   the set: dist(x, t_c) <= d(c) + |x - c| <= d(x) + 2 |x - c|). Everything depends only on
-///   the brick's global position: thread and rank invariant as the exact part.
+/// Band part (band mode only, band_distance finite; the exact-part options above do not apply):
+///  - a brick whose centre's exact distance satisfies d(c) - r > band (r its half-diagonal) has no
+///    node with d <= band (Lipschitz): transfer only (below);
+///  - other bricks: one BVH traversal collects the triangles whose bounding box is within
+///    near = min(B, d(c) + r) of the brick (B the band plus slack); the brick is halved (8^3 ->
+///    4^3 -> 2^3) and each half keeps those within ITS near (its d_S(c) the minimum over t_b and
+///    its parent's candidates at its centre; a half with d_S(c) - r > band is transferred). A node
+///    x has d(x) <= d_S(c) + r, and its nearest triangle's box is within d(x) of x, so a node
+///    with d(x) <= band (or any node, where near = d_S(c) + r) finds its nearest triangle among
+///    the candidates of its 2^3 box: the minimum over them (vectorized box test, exact distance
+///    where it can win, warm-started from the previous node) is the minimum over ALL triangles,
+///    bit for bit the exact mode's value (tested). Nodes found beyond the band also take t_b.
+///  Transfer (nodes beyond the band): S = the nearest triangles of the 27 brick centres around
+///  (and including) the node's brick; for a 4^3 box with centre c, K = {t in S : dist(c, t) <=
+///  min_S dist(c, .) + 2 r} (every triangle that can be S's minimum at a node of the box), and
+///  each node gets the distance to ONE triangle: t_c, the nearest of K to the centre c' of the
+///  node's box of at most kTransferLeaf^3 nodes. The value is the distance to a real triangle
+///  (never below the truth) and at most d(x) + 2 r_b + r' above it (r_b the brick's
+///  half-diagonal, r' the small box's; proof in brick_distance.cpp); measured errors in
+///  docs/performance.md. Everything depends only on the brick's global position: thread and
+///  rank invariant as the exact part.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -87,7 +97,11 @@ class BrickDistance {
     std::vector<Candidates> level;
     std::vector<double> box_d2;
     std::vector<std::uint32_t> transfer;
-    std::vector<std::vector<std::uint32_t>> transfer_level;
+    std::vector<std::vector<std::uint32_t>> transfer_level;  ///< band mode: candidates per box level
+    Candidates leaf;                       ///< band mode: a leaf box's candidates near its nodes
+    std::vector<std::uint32_t> transfer_kept;  ///< band mode: the transferred set kept for a box
+    std::uint32_t brick_triangle = 0;  ///< band mode: the brick centre's nearest triangle t_b
+    double brick_d2 = 0.0;             ///< band mode: its squared distance to the brick centre
     NodeBox brick, clip;  ///< the brick being solved (offsets into d2) and the nodes to compute
     BrickCounters counters;
   };
@@ -107,9 +121,9 @@ class BrickDistance {
   void solve_box(const NodeBox& box, int depth, const Workspace::Candidates* parent, TriangleTree::Nearest centre,
                  Workspace& ws, double* d2) const;
   TriangleTree::Nearest scan(const Workspace::Candidates& c, const Vec3& p, std::uint32_t hint, Workspace& ws) const;
-  void transfer_box(const NodeBox& box, std::uint32_t extra, Workspace& ws, double* d2) const;
-  void transfer_rec(const NodeBox& box, int depth, const std::vector<std::uint32_t>& set, Workspace& ws,
-                    double* d2) const;
+  void transfer_box(const NodeBox& box, Workspace& ws, double* d2) const;
+  void band_box(const NodeBox& box, int depth, const std::vector<std::uint32_t>& parent, Workspace& ws,
+                double* d2) const;
   double half_diagonal(const NodeBox& box) const;
 
   const TriangleTree& tree_;

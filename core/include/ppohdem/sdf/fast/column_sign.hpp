@@ -57,6 +57,10 @@ class ColumnSign {
   void inside_on_line(int j, int k, std::vector<char>& inside) const;
   /// inside[i - i_begin] for the nodes (i, j, k), i = i_begin..i_end-1 (part of an x-line).
   void inside_on_segment(int j, int k, int i_begin, int i_end, char* inside) const;
+  /// inside[(k - k_begin) * stride] for the nodes (i, j, k), k = k_begin..k_end-1 (part of a
+  /// z-column): the same answers as inside_on_segment, from one walk up the column's sorted
+  /// crossings instead of one binary search per node.
+  void inside_on_column(int i, int j, int k_begin, int k_end, char* inside, std::size_t stride) const;
 
   std::size_t memory_bytes() const;
 

@@ -41,8 +41,8 @@ struct FastSdfCounters {
 struct FastSdfOptions {
   int threads = 0;  ///< OpenMP threads; 0 = the OpenMP default (OMP_NUM_THREADS or all cores)
   /// Band mode: 0 (default) = exact everywhere. W > 0: exact wherever |phi| <= W h_max
-  /// (h_max the largest spacing); farther nodes get the exact distance to the nearest of a few
-  /// triangles transferred from the surrounding brick centres (an upper bound; the sign is exact
+  /// (h_max the largest spacing); farther nodes get the exact distance to one triangle
+  /// transferred from the surrounding brick centres (an upper bound; the sign is exact
   /// everywhere). See brick_distance.hpp and docs/performance.md for the measured error.
   double band_cells = 0.0;
   /// Exact nodes by the shared-candidate scheme of brick_distance.hpp instead of one BVH query per
