@@ -1,7 +1,9 @@
 #pragma once
 /// \file run_diagnostics.hpp
 /// Checks run_scene makes after EVERY step, so that a run that goes wrong stops within a
-/// step or two with a diagnosis instead of writing NaNs (docs/reliability.md). A failed check
+/// step or two with a diagnosis instead of writing NaNs (docs/reliability.md). The per-particle
+/// scans run only when a cheap screen (energy sums not finite, the engine's escape count grown)
+/// says a particle is to be named: run_diagnostics.cpp. A failed check
 /// names the step, the particle id(s) and the likely cause; run_scene then writes
 /// failed_checkpoint.bin and throws RunFailure (`ppohdem simulate` exits with status 1).
 ///   non-finite   a position, velocity, angular velocity, force or torque is NaN or infinite
@@ -71,7 +73,7 @@ class RunDiagnostics {
 
  private:
   std::optional<std::string> check_overlap(const DemEngine& engine);
-  std::optional<std::string> check_energy(const DemEngine& engine);
+  std::optional<std::string> check_energy(const DemEngine& engine, const Energies& energies);
   std::optional<std::string> check_domain(const DemEngine& engine) const;
   std::string time_step_note() const;
 
@@ -81,6 +83,7 @@ class RunDiagnostics {
   double initial_overlap_;
   TimeStepLimit limit_;
   CheckMargins margins_;
+  std::size_t escaped_seen_ = 0;  ///< the engine's escape count at the last check
 };
 
 }  // namespace ppohdem::dem
