@@ -1,4 +1,4 @@
-// Regression tests for fuzzing findings 4-6 (docs/reliability.md): malformed TOML that reached
+// Regression tests for fuzzing findings 4-7 (docs/reliability.md): malformed TOML that reached
 // internal preconditions of toml++ 3.3.0 (assert / __builtin_assume / __builtin_unreachable)
 // must be refused by read_scene with an InputError naming the file and the line, and nothing
 // else. The inputs are the reproducers the scene fuzz target replays on every run
@@ -112,6 +112,28 @@ TEST(SceneTomlGuards, HashInsideAStringDoesNotStartAComment) {
   const auto lines_before = std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n');
   EXPECT_THAT(scene_error(file), AllOf(HasSubstr(located("scene.toml", static_cast<int>(lines_before) + 2)),
                                        HasSubstr("0xC2"), HasSubstr("column 11")));
+}
+
+TEST(SceneTomlGuards, IntegerBeyondADoubleIsANumber) {
+  // Finding 7: an integer that a double cannot hold exactly (2^63 - 1) made toml++'s
+  // value<double>() empty and read_scene threw std::bad_optional_access (an abort in the fuzz
+  // target). Integers are now read as the nearest double and meet the range checks.
+  // d6a0...: the fuzzer's scene, `restitution = 9223372036854775807` on line 11.
+  EXPECT_THAT(scene_error(reproducer("crash-d6a0ba0dee51dc798e01bafbb7d3cff3016003cc")),
+              HasSubstr("restitution"));
+  // In an array (the other number reader): -(2^63 - 1) rounds to -2^63, exactly representable.
+  const auto file = two_spheres_with("");
+  std::ifstream in(file, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const std::string zero_gravity = "gravity = [0.0, 0.0, 0.0]";
+  const auto at = text.find(zero_gravity);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, zero_gravity.size(), "gravity = [0, 0, -9223372036854775807]");
+  std::ofstream(file, std::ios::binary) << text;
+  const dem::Scene scene = dem::read_scene(file);
+  EXPECT_EQ(scene.setup.gravity.z(), -9223372036854775808.0);
+  EXPECT_EQ(scene.setup.gravity.x(), 0.0);
 }
 
 }  // namespace
