@@ -13,9 +13,9 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr, interleaved
 };
 
-/// Runs `PPOHDEM_EXE <arguments>` (a shell command line; quote paths yourself) in `cwd`.
-inline CommandResult run_ppohdem(const std::string& arguments, const std::string& cwd = ".") {
-  const std::string command = "cd '" + cwd + "' && '" + std::string(PPOHDEM_EXE) + "' " + arguments + " 2>&1";
+/// Runs the shell command line `command` (add `2>&1` to capture stderr) and returns what it
+/// printed on stdout and its exit code.
+inline CommandResult run_shell(const std::string& command) {
   CommandResult result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return result;
@@ -24,6 +24,11 @@ inline CommandResult run_ppohdem(const std::string& arguments, const std::string
   const int status = ::pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Runs `PPOHDEM_EXE <arguments>` (a shell command line; quote paths yourself) in `cwd`.
+inline CommandResult run_ppohdem(const std::string& arguments, const std::string& cwd = ".") {
+  return run_shell("cd '" + cwd + "' && '" + std::string(PPOHDEM_EXE) + "' " + arguments + " 2>&1");
 }
 
 }  // namespace ppohdem::test

@@ -41,14 +41,7 @@ CommandResult run_mpi(int ranks, int threads, const fs::path& scene, const std::
                               " OMPI_MCA_mpi_yield_when_idle=1 OMP_WAIT_POLICY=passive '" +
                               std::string(PPOHDEM_MPIEXEC) + "' -n " + std::to_string(ranks) + " --oversubscribe --bind-to none '" +
                               std::string(PPOHDEM_EXE) + "' simulate '" + scene.string() + "' " + args + " 2>&1";
-  CommandResult result;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) result.output += buffer.data();
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return ppohdem::test::run_shell(command);
 }
 
 /// The file without its '#' header lines (they name the rank and thread counts and the date).
