@@ -63,6 +63,14 @@ struct CellKeyHash {
 Particles random_fill(const GeneratorSpec& spec, double r_max, const std::string& where) {
   std::mt19937_64 rng(spec.seed);
   const double cell = 2.0 * r_max;  // [m] a neighbour is at most one cell away
+  // Cell indices are int: a box of more than 2^30 cells per axis (fuzz_scene_toml, finding 8:
+  // box_max z = 9.2e19 m) would overflow the conversion (undefined behaviour).
+  for (int a = 0; a < 3; ++a) {
+    if (!((spec.box_max[a] - spec.box_min[a]) / cell < 1073741824.0)) {
+      throw InputError(where, 0, "[particles] random: the box is more than 2^30 particle diameters long along axis " +
+                                     std::to_string(a) + " (box_min, box_max too far apart for the particle size)");
+    }
+  }
   std::unordered_map<Index3, std::vector<std::size_t>, CellKeyHash> grid;
   auto cell_of = [&](const Vec3& x) {
     const Vec3 s = (x - spec.box_min) / cell;
