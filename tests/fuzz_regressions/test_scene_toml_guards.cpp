@@ -1,4 +1,4 @@
-// Regression tests for fuzzing findings 4-7 (docs/reliability.md): malformed TOML that reached
+// Regression tests for fuzzing findings 4-8 (docs/reliability.md): malformed TOML that reached
 // internal preconditions of toml++ 3.3.0 (assert / __builtin_assume / __builtin_unreachable)
 // must be refused by read_scene with an InputError naming the file and the line, and nothing
 // else. The inputs are the reproducers the scene fuzz target replays on every run
@@ -134,6 +134,44 @@ TEST(SceneTomlGuards, IntegerBeyondADoubleIsANumber) {
   const dem::Scene scene = dem::read_scene(file);
   EXPECT_EQ(scene.setup.gravity.z(), -9223372036854775808.0);
   EXPECT_EQ(scene.setup.gravity.x(), 0.0);
+}
+
+/// The scene of finding 8 with `box_max` z replaced by `z` [m].
+std::filesystem::path finding8_with_box_z(const std::string& z) {
+  std::ifstream in(reproducer("crash-30f24aa4d0eb5630580bbf2972e1dff5233a681a"), std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string huge = "92233720368547758070.06";
+  const auto at = text.find(huge);
+  if (at == std::string::npos) return {};
+  text.replace(at, huge.size(), z);
+  // The fuzzer cut the file inside its [[wall]] table (no `normal`): drop that table, so the
+  // scene is valid apart from the box.
+  const auto wall = text.find("[[wall]]");
+  if (wall != std::string::npos) text.erase(wall);
+  const auto file = std::filesystem::path(::testing::TempDir()) / "finding8.toml";
+  std::ofstream(file, std::ios::binary) << text;
+  return file;
+}
+
+TEST(SceneTomlGuards, RandomFillBoxBeyondTheCellIndexRangeIsRefused) {
+  // Finding 8: box_max z = 9.2e19 m with radius_max 9.2 mm is ~5e21 cells of one diameter
+  // (2 radius_max = 18.4 mm) along z; the random generator's int cell index overflowed
+  // (undefined behaviour, caught by UBSan). Now an InputError names the limit and the axis.
+  EXPECT_THAT(scene_error(reproducer("crash-30f24aa4d0eb5630580bbf2972e1dff5233a681a")),
+              AllOf(HasSubstr("2^30 particle diameters"), HasSubstr("axis 2")));
+  // The limit is 2^30 cells = 2^30 x 18.4 mm = 1.9757e7 m: 2.0e7 m is refused, 1.9e7 m (a
+  // valid if silly box: the index then fits an int) is accepted and its 8 spheres generated
+  // inside it.
+  const auto over = finding8_with_box_z("2.0e7");
+  ASSERT_FALSE(over.empty());
+  EXPECT_THAT(scene_error(over), HasSubstr("axis 2"));
+  const auto under = finding8_with_box_z("1.9e7");
+  const dem::Scene scene = dem::read_scene(under);
+  ASSERT_EQ(scene.setup.particles.size(), 8u);
+  for (const auto& p : scene.setup.particles) {
+    EXPECT_GE(p.position.z(), 0.0);
+    EXPECT_LE(p.position.z(), 1.9e7);
+  }
 }
 
 }  // namespace
