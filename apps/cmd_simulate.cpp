@@ -95,6 +95,9 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   } else {
     engine = factory->second(scene.setup);
   }
+  // The engine holds the particles now; the scene's copy is not read again (run_scene uses
+  // the materials, boundaries and outputs): free it (about 140 bytes per particle).
+  dem::Particles().swap(scene.setup.particles);
   const std::string header = provenance_line(ranks) + "; engine " + engine->name();
   const std::size_t particle_count = engine->particles().size();  // collective: on every rank
   if (root) std::fprintf(stderr, "%s\n", header.c_str());
@@ -114,6 +117,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   run_options.checkpoint_every = options.checkpoint_every;
   run_options.scene_name = options.input;
   if (ranks > 1) run_options.comm = options.comm;
+  run_options.time_step_limit = limit;  // of the setup with its particles (freed above)
   if (!options.restart.empty()) {
     run_options.restart = std::make_shared<const dem::Checkpoint>(dem::read_checkpoint(options.restart));
   }

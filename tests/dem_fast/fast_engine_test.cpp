@@ -207,6 +207,33 @@ TEST(FastEngine, FinalStateIsBitwiseTheSameForOneAndTwoThreads) {
 #endif
 }
 
+TEST(FastEngine, ThreadCountChangedMidRunContinuesBitwise) {
+#ifndef PPOHDEM_WITH_OPENMP
+  GTEST_SKIP() << "built without OpenMP (PPOHDEM_ENABLE_OPENMP=OFF)";
+#else
+  // The tangential springs live in per-thread pools (fast_state.hpp): a change of the thread
+  // count between steps re-lays them out. 1500 frictional particles (above kParallelMin, so
+  // the loops really run on 2 threads) with contacts beginning and ending all the time: the
+  // run switched 2 -> 1 -> 2 threads between list builds must equal a 1-thread run bit for bit.
+  const SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls);
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  FastEngine steady(setup);
+  steady.advance(300);
+  omp_set_num_threads(2);
+  FastEngine switched(setup);
+  switched.advance(97);
+  omp_set_num_threads(1);
+  switched.advance(101);
+  omp_set_num_threads(2);
+  switched.advance(102);
+  omp_set_num_threads(before);
+  ASSERT_GT(steady.contact_counts().particle_pairs, 100u) << "the scene must have frictional contacts";
+  expect_same_bits(steady.particles(), switched.particles(), "1 thread vs 2 -> 1 -> 2 threads");
+  EXPECT_EQ(steady.energies().dissipated, switched.energies().dissipated);
+#endif
+}
+
 TEST(FastEngine, RestartFromItsCheckpointIsBitwise) {
   const SimulationSetup setup = scene(SceneKind::kLinearFrictionWallsObject);
   FastEngine straight(setup);

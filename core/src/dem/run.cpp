@@ -210,7 +210,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   } else {
     summary.initial = engine.energies();
   }
-  RunDiagnostics diagnostics(scene.setup, scene.checks, summary.initial, initial_overlap);
+  RunDiagnostics diagnostics(scene.setup, scene.checks, summary.initial, initial_overlap, options.time_step_limit);
   // A failed check: keep what the run did, up to and including the failed step (energy rows
   // only while they are finite: no NaN in the outputs), and the state for inspection.
   auto stop = [&](const std::string& diagnosis) {

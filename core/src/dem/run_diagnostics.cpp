@@ -50,12 +50,12 @@ double elastic_overlap_at_speed(const ContactLaw& law, const PairProperties& pai
 }  // namespace
 
 RunDiagnostics::RunDiagnostics(const SimulationSetup& setup, const RunChecks& checks, const Energies& initial,
-                               double initial_overlap)
+                               double initial_overlap, std::optional<TimeStepLimit> limit)
     : setup_(setup),
       checks_(checks),
       initial_(initial),
       initial_overlap_(initial_overlap),
-      limit_(time_step_limit(setup)) {}
+      limit_(limit ? *limit : time_step_limit(setup)) {}
 
 std::string RunDiagnostics::time_step_note() const {
   char buf[200];

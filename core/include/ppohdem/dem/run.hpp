@@ -15,6 +15,7 @@
 /// Diagnostics (run_diagnostics.hpp) after every step; a failed check writes the logs and
 ///   <dir>/failed_checkpoint.bin and throws RunFailure.
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -46,6 +47,10 @@ struct RunOptions {
   /// files and the progress lines, and the objects' outside-grid counts are summed over ranks.
   /// nullptr: one rank.
   const Comm* comm = nullptr;
+  /// The scene's stability limit (time_step_limit of the setup WITH its particles), for a
+  /// caller that frees scene.setup.particles once the engine holds them; empty: computed from
+  /// scene.setup.
+  std::optional<TimeStepLimit> time_step_limit;
 };
 
 /// File names in the output directory.

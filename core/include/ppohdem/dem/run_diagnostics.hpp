@@ -62,8 +62,10 @@ class RunDiagnostics {
  public:
   /// `initial`: the energies at step 0 of the run (also after a restart);
   /// `initial_overlap`: the deepest overlap / radius of the initial state (r0 above).
+  /// `limit`: the setup's stability limit if the caller has it (setup.particles may then be
+  /// empty); otherwise time_step_limit(setup).
   RunDiagnostics(const SimulationSetup& setup, const RunChecks& checks, const Energies& initial,
-                 double initial_overlap = 0.0);
+                 double initial_overlap = 0.0, std::optional<TimeStepLimit> limit = std::nullopt);
   /// Checks the engine's state after a step; returns the diagnosis of the first failed check.
   std::optional<std::string> check(const DemEngine& engine);
   /// The non-finite check alone (the state before the first step: forces of the initial

@@ -117,7 +117,7 @@ void unpack_particle(Unpacker& u, FastState& s) {
 struct FastEngine::Impl {
   FastState s;
   std::unique_ptr<ForceKernel> kernel;
-  SimulationSetup setup_materials;  ///< the setup without particles: materials for restore_state
+  std::vector<Material> materials;  ///< material k of the scene (SimulationSetup::material_at), for restore_state
   SerialComm serial;
   const Comm* comm = &serial;
   Decomposition decomposition;
@@ -145,7 +145,7 @@ struct FastEngine::Impl {
   bool distributed() const { return comm->size() > 1; }
 
   /// Keeps the particles this rank owns (all of them on one rank).
-  void load_particles(const Particles& particles, const SimulationSetup& setup) {
+  void load_particles(const Particles& particles) {
     auto& q = s;
     for_each_particle_array(q, [](auto& a) { a.clear(); });
     total = particles.size();
@@ -166,7 +166,7 @@ struct FastEngine::Impl {
       q.pw.push_back(p.angular_velocity);
       q.x_build.push_back(p.position);
       q.radius.push_back(p.radius);
-      const Material& mat = setup.material_at(p.material);
+      const Material& mat = materials[p.material];
       q.material.push_back(p.material);
       q.mass.push_back(mat.mass(p.radius));
       q.inertia.push_back(mat.moment_of_inertia(p.radius));
@@ -180,7 +180,8 @@ struct FastEngine::Impl {
     q.owned = n;
     q.first.assign(n + 1, 0);
     q.partner.clear();
-    q.spring.clear();
+    q.spring_of.clear();
+    q.spring_pools.clear();
     q.records.clear();
     q.record_first.assign(n + 1, 0);
     halo_send.assign(static_cast<std::size_t>(comm->size()), {});
@@ -195,9 +196,9 @@ struct FastEngine::Impl {
     for (std::size_t k = 0; k < n; ++k) {
       if (s.friction && s.first.size() == n + 1) {
         for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
-          if (!keeps_history(s.spring[slot])) continue;
+          if (s.spring_of[slot] == kNoSpring || !keeps_history(s.spring_at(s.spring_of[slot]))) continue;
           h.partner_id.push_back(s.id[s.partner[slot]]);
-          h.spring.push_back(s.spring[slot]);
+          h.spring.push_back(s.spring_at(s.spring_of[slot]));
         }
       }
       h.first.push_back(static_cast<std::uint32_t>(h.partner_id.size()));
@@ -402,17 +403,23 @@ struct FastEngine::Impl {
   void install_history(const History& h) {
     const std::size_t n = s.owned;
     if (s.friction) {
-      s.spring.assign(s.partner.size(), TangentialSpring{});
+      s.spring_of.assign(s.partner.size(), kNoSpring);
+      s.spring_pools.assign(1, {});
+      s.pool_shift = 31;
       for (std::size_t k = 0; k < n; ++k) {
         std::uint32_t a = h.first[k];
         const std::uint32_t a_end = h.first[k + 1];
         for (std::uint32_t b = s.first[k]; b < s.first[k + 1]; ++b) {
           const std::int64_t want = s.id[s.partner[b]];
           for (; a < a_end && h.partner_id[a] < want; ++a) lost(h.spring[a], k, h.partner_id[a]);
-          if (a < a_end && h.partner_id[a] == want) s.spring[b] = h.spring[a++];
+          if (a < a_end && h.partner_id[a] == want) {
+            s.spring_of[b] = s.new_spring(0);
+            s.spring_at(s.spring_of[b]) = h.spring[a++];
+          }
         }
         for (; a < a_end; ++a) lost(h.spring[a], k, h.partner_id[a]);
       }
+      lay_out_springs(s, max_threads());  // checks the code range, adds the threads' pools
     }
     s.records.clear();
     s.record_first.assign(n + 1, 0);
@@ -495,20 +502,23 @@ struct FastEngine::Impl {
       Vec3 force, point;
     };
     std::vector<Load> all_records;
-    std::vector<double> terms(total * 4, 0.0);  // (elastic, dissipated, work, power) by construction index
+    std::vector<double> terms;  // several ranks: (elastic, dissipated, work, power) by construction index
     std::size_t escaped_here = 0;
     for (std::size_t k = 0; k < s.owned; ++k) escaped_here += s.escaped_via[k] != 0 ? 1 : 0;
+    double e = 0.0, d = 0.0, w = 0.0, p = 0.0;
     if (!distributed()) {
-      for (std::size_t k = 0; k < s.owned; ++k) {
-        double* t = &terms[4 * s.original[k]];
-        t[0] = s.elastic_p[k];
-        t[1] = s.dissipated_p[k];
-        t[2] = s.work_p[k];
-        t[3] = s.power_p[k];
+      // One rank holds every particle: the sums read them in construction order directly.
+      for (std::size_t o = 0; o < total; ++o) {
+        const std::size_t k = s.where[o];
+        e += s.elastic_p[k];
+        d += s.dissipated_p[k];
+        w += s.work_p[k];
+        p += s.power_p[k];
       }
       for (const BoundaryRecord& r : s.records) all_records.push_back({s.original[r.particle], r.boundary, r.force, r.point});
       escaped = escaped_here;
     } else {
+      terms.assign(total * 4, 0.0);
       Bytes mine;
       Packer pk(mine);
       pk.put(static_cast<std::uint64_t>(s.pair_contacts));
@@ -572,8 +582,7 @@ struct FastEngine::Impl {
         }
       }
     }
-    double e = 0.0, d = 0.0, w = 0.0, p = 0.0;
-    for (std::size_t o = 0; o < total; ++o) {
+    for (std::size_t o = 0; o < terms.size() / 4; ++o) {
       e += terms[4 * o];
       d += terms[4 * o + 1];
       w += terms[4 * o + 2];
@@ -659,9 +668,9 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   std::vector<Vec3> centres;
   for (const Particle& p : setup.particles) centres.push_back(p.position);
   m.decomposition = Decomposition(m.comm->size(), centres);
-  m.setup_materials = setup;
-  m.setup_materials.particles.clear();  // only the materials are needed (restore_state)
-  m.load_particles(setup.particles, m.setup_materials);
+  // Only the materials are kept (a copy of the setup would hold a second copy of the particles).
+  for (std::size_t k = 0; k < setup.material_count(); ++k) m.materials.push_back(setup.material_at(k));
+  m.load_particles(setup.particles);
   std::fill(m.s.f.begin(), m.s.f.end(), Vec3::Zero());  // the first evaluation sets them
   std::fill(m.s.t.begin(), m.s.t.end(), Vec3::Zero());
   m.build_lists();
@@ -740,12 +749,24 @@ const Particles& FastEngine::particles() const {
 Energies FastEngine::energies() const {
   const Impl& m = *impl_;
   const FastState& s = m.s;
+  Energies e;
+  if (!m.distributed()) {  // every particle here: sum in construction order directly (same bits)
+    for (std::size_t o = 0; o < m.total; ++o) {
+      const std::size_t i = s.where[o];
+      e.kinetic += 0.5 * s.mass[i] * s.v[i].squaredNorm();
+      e.rotational += 0.5 * s.inertia[i] * s.w[i].squaredNorm();
+      e.gravitational -= s.mass[i] * s.gravity.dot(s.x[i]);
+    }
+    e.elastic = m.elastic;
+    e.dissipated = m.dissipated;
+    e.boundary_work = m.boundary_work;
+    return e;
+  }
   const std::vector<double> terms = m.global_columns(3, [&](std::size_t i, double* t) {
     t[0] = 0.5 * s.mass[i] * s.v[i].squaredNorm();
     t[1] = 0.5 * s.inertia[i] * s.w[i].squaredNorm();
     t[2] = s.mass[i] * s.gravity.dot(s.x[i]);
   });
-  Energies e;
   for (std::size_t o = 0; o < m.total; ++o) {  // construction order (see evaluate_forces)
     e.kinetic += terms[3 * o];
     e.rotational += terms[3 * o + 1];
@@ -776,10 +797,12 @@ std::size_t FastEngine::neighbour_slots() const { return impl_->s.partner.size()
 
 std::size_t FastEngine::memory_bytes() const {
   const FastState& s = impl_->s;
+  std::size_t pool_bytes = bytes(s.spring_pools);
+  for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.elastic_p) + bytes(s.dissipated_p) + bytes(s.work_p) + bytes(s.power_p) + bytes(s.first) +
-         bytes(s.partner) + bytes(s.spring) + bytes(s.records) + bytes(s.record_first);
+         bytes(s.partner) + bytes(s.spring_of) + pool_bytes + bytes(s.records) + bytes(s.record_first);
 }
 
 EngineState FastEngine::save_state() const {
@@ -803,7 +826,8 @@ EngineState FastEngine::save_state() const {
     for (std::size_t k = 0; k < s.owned; ++k) {
       for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
-        const TangentialSpring& sp = s.spring[slot];
+        if (s.spring_of[slot] == kNoSpring) continue;
+        const TangentialSpring& sp = s.spring_at(s.spring_of[slot]);
         if (s.id[k] < s.id[j] && (sp.stiffness != 0.0 || sp.branch_i != Vec3::Zero())) {
           put(ContactHistoryRecord::Kind::kParticlePair, s.id[k], s.id[j], sp);
         }
@@ -883,7 +907,7 @@ void FastEngine::restore_state(const EngineState& state) {
       known(c.id_b);
     }
   }
-  m.load_particles(state.particles, m.setup_materials);
+  m.load_particles(state.particles);
   m.steps = state.step;
   m.elastic = state.accumulators.elastic;
   m.dissipated = state.accumulators.dissipated;
@@ -929,7 +953,9 @@ void FastEngine::restore_state(const EngineState& state) {
         misplaced = true;
         return;
       }
-      s.spring[static_cast<std::size_t>(it - s.partner.begin())] = spring;
+      std::uint32_t& code = s.spring_of[static_cast<std::size_t>(it - s.partner.begin())];
+      if (code == kNoSpring) code = s.new_spring(0);
+      s.spring_at(code) = spring;
     };
     install(c.id_a, c.id_b, c.spring);
     install(c.id_b, c.id_a, mirrored(c.spring));

@@ -55,10 +55,14 @@ class Kernel final : public ForceKernel {
     }
     const int threads = max_threads();
     if (s.threads.size() < static_cast<std::size_t>(threads)) s.threads.resize(static_cast<std::size_t>(threads));
+    if constexpr (kFriction) {
+      if (s.spring_pools.size() != static_cast<std::size_t>(threads) + 1) lay_out_springs(s, threads);
+    }
     std::size_t pairs = 0;
     std::size_t touching_boundaries = 0;
     PPOHDEM_OMP(omp parallel reduction(+ : pairs, touching_boundaries) if (n >= kParallelMin))
     {
+      [[maybe_unused]] const std::size_t my_pool = 1 + static_cast<std::size_t>(thread_id());  // new springs of this thread
       ThreadOutput& out = s.threads[static_cast<std::size_t>(thread_id())];
       out.records.clear();
       out.newly_escaped.clear();
@@ -78,10 +82,11 @@ class Kernel final : public ForceKernel {
           const double reach = ri + s.radius[j];
           if (!(d.squaredNorm() < reach * reach)) {
             if constexpr (kFriction) {
-              TangentialSpring& sp = s.spring[slot];
-              if (has_history(sp)) {  // the contact ended: its stored energy is lost
-                if (idi < s.id[j]) dissipated += sp.stored_energy();
-                sp = TangentialSpring{};
+              std::uint32_t& code = s.spring_of[slot];
+              if (code != kNoSpring) {  // the contact ended: its stored energy is lost
+                const TangentialSpring& sp = s.spring_at(code);
+                if (has_history(sp) && idi < s.id[j]) dissipated += sp.stored_energy();
+                code = kNoSpring;
               }
             }
             continue;
@@ -98,7 +103,9 @@ class Kernel final : public ForceKernel {
           k.pair.r_eff = pair_value(ri, s.radius[j]);
           ContactForce f;
           if constexpr (kFriction) {
-            TangentialSpring& sp = s.spring[slot];
+            std::uint32_t& code = s.spring_of[slot];
+            if (code == kNoSpring) code = s.new_spring(my_pool);  // a new contact: empty history
+            TangentialSpring& sp = s.spring_at(code);
             k.relative_displacement_previous_arms =
                 dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
             f = frictional_contact_force(pair_law(s, i, j), k, sp, dt);
