@@ -143,10 +143,13 @@ struct FastEngine::Impl {
   std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
 
   bool distributed() const { return comm->size() > 1; }
+  /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
+  bool kick_cached = false;
 
   /// Keeps the particles this rank owns (all of them on one rank).
   void load_particles(const Particles& particles) {
     auto& q = s;
+    kick_cached = false;
     for_each_particle_array(q, [](auto& a) { a.clear(); });
     total = particles.size();
     r_max = 0.0;
@@ -613,11 +616,15 @@ struct FastEngine::Impl {
     const Vec3 g = s.gravity;
     const std::size_t n = s.owned;
     double largest = 0.0;  // max |x - x_build|^2 [m^2]
-    // Half kick and drift (the reference's expressions, so the same bits).
+    // Half kick and drift (the reference's expressions, so the same bits). The kick of
+    // f(n) / m is the one the closing kick of the previous step computed from the same f(n):
+    // that step left it in pv, pw (free between steps), which saves 6 of the 12 divisions of
+    // a particle-step; after a (re)start the kick is computed afresh.
+    const bool cached = kick_cached;
     PPOHDEM_OMP(omp parallel for schedule(static) reduction(max : largest) if (n >= kParallelMin))
     for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 kick = half * (s.f[i] / s.mass[i] + g);
-      const Vec3 spin_kick = half * s.t[i] / s.inertia[i];
+      const Vec3 kick = cached ? s.pv[i] : Vec3(half * (s.f[i] / s.mass[i] + g));
+      const Vec3 spin_kick = cached ? s.pw[i] : Vec3(half * s.t[i] / s.inertia[i]);
       s.v[i] += kick;
       s.w[i] += spin_kick;
       s.x[i] += dt * s.v[i];
@@ -636,9 +643,12 @@ struct FastEngine::Impl {
     const std::size_t owned = s.owned;  // changed if the build migrated particles
     PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
     for (std::size_t i = 0; i < owned; ++i) {
-      s.v[i] += half * (s.f[i] / s.mass[i] + g);
-      s.w[i] += half * s.t[i] / s.inertia[i];
+      s.pv[i] = half * (s.f[i] / s.mass[i] + g);  // the closing kick, kept for the next step
+      s.pw[i] = half * s.t[i] / s.inertia[i];
+      s.v[i] += s.pv[i];
+      s.w[i] += s.pw[i];
     }
+    kick_cached = true;
     out_valid = false;
   }
 };
