@@ -1,4 +1,4 @@
-// Regression tests for fuzzing findings 4-8 (docs/reliability.md): malformed TOML that reached
+// Regression tests for fuzzing findings 4-9 (docs/reliability.md): malformed TOML that reached
 // internal preconditions of toml++ 3.3.0 (assert / __builtin_assume / __builtin_unreachable)
 // must be refused by read_scene with an InputError naming the file and the line, and nothing
 // else. The inputs are the reproducers the scene fuzz target replays on every run
@@ -14,6 +14,7 @@
 #include <fstream>
 #include <string>
 
+#include "ppohdem/dem/particle_generator.hpp"
 #include "ppohdem/dem/scene.hpp"
 #include "ppohdem/error.hpp"
 #include "test_paths.hpp"
@@ -171,6 +172,45 @@ TEST(SceneTomlGuards, RandomFillBoxBeyondTheCellIndexRangeIsRefused) {
   for (const auto& p : scene.setup.particles) {
     EXPECT_GE(p.position.z(), 0.0);
     EXPECT_LE(p.position.z(), 1.9e7);
+  }
+}
+
+TEST(SceneTomlGuards, LatticeOfATinyRadiusInALargeBox) {
+  // Finding 9: `radius = 10.0e-23` in a 5 cm box gave 2.3e20 lattice sites per axis; the
+  // conversion of that count to int64 was undefined behaviour (UBSan). The reproducer now
+  // reads without it (its [material] lacks `young`, so it ends in an InputError).
+  const std::string message = scene_error(reproducer("crash-f77523134e8975befcd2ebe74c391514760b28da"));
+  EXPECT_THAT(message, HasSubstr("crash-f77523134e8975befcd2ebe74c391514760b28da"));
+  // The generator itself: 8 spheres of R = 1e-22 m fit (one row along x), at the pitch
+  // 2 R (1 + 1e-3) + 2 jitter R of the lattice, ids 1..8.
+  dem::GeneratorSpec g;
+  g.kind = dem::GeneratorKind::kLattice;
+  g.box_max = Vec3(0.05, 0.03, 0.06);
+  g.count = 8;
+  g.radius = 1.0e-22;
+  g.jitter = 0.1;
+  g.seed = 42;
+  const dem::Particles p = dem::generate_particles(g, "test");
+  ASSERT_EQ(p.size(), 8u);
+  const double pitch = 2.0 * g.radius * (1.0 + 1.0e-3) + 2.0 * g.jitter * g.radius;
+  for (std::size_t n = 0; n < p.size(); ++n) {
+    EXPECT_EQ(p[n].id, static_cast<std::int64_t>(n + 1));
+    // Site n at (R + jitter R) + n pitch along x, moved by at most jitter R per axis.
+    EXPECT_NEAR(p[n].position.x(), 1.1 * g.radius + static_cast<double>(n) * pitch, 0.1 * g.radius * (1.0 + 1e-12));
+    EXPECT_NEAR(p[n].position.y(), 1.1 * g.radius, 0.1 * g.radius * (1.0 + 1e-12));
+    EXPECT_NEAR(p[n].position.z(), 1.1 * g.radius, 0.1 * g.radius * (1.0 + 1e-12));
+  }
+  // A box that cannot hold the count is still refused, with the true (small) capacity: a
+  // 2.5 x 2.5 x 1 mm box holds 2 x 2 x 1 spheres of R = 0.5 mm (pitch 1.051 mm with jitter 0.05).
+  g.radius = 0.5e-3;
+  g.jitter = 0.05;
+  g.box_max = Vec3(2.5e-3, 2.5e-3, 1.0e-3);
+  g.count = 5;
+  try {
+    (void)dem::generate_particles(g, "test");
+    ADD_FAILURE() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("holds 4 particles"));
   }
 }
 

@@ -1,5 +1,6 @@
 #include "ppohdem/dem/particle_generator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -26,12 +27,17 @@ Particles lattice(const GeneratorSpec& spec, double r_max, const std::string& wh
   const double jitter = spec.jitter * spec.radius;  // [m]
   const double pitch = 2.0 * r_max * (1.0 + 1.0e-3) + 2.0 * jitter;  // [m]
   const Vec3 extent = spec.box_max - spec.box_min;
+  // Sites per axis, at most `count` (no lattice needs more along one axis): a tiny radius in a
+  // large box gives far more sites than an int64 holds (fuzz_scene_toml, finding 9: radius
+  // 1e-22 m, 2.3e20 sites; the conversion was undefined behaviour).
+  const double most = static_cast<double>(std::max<std::int64_t>(spec.count, 1));
   auto per_axis = [&](double length) {
-    const double n = std::floor((length - 2.0 * r_max) / pitch) + 1.0;
+    const double n = std::min(std::floor((length - 2.0 * r_max) / pitch) + 1.0, most);
     return n > 0.0 ? static_cast<std::int64_t>(n) : std::int64_t{0};
   };
   const std::int64_t nx = per_axis(extent.x()), ny = per_axis(extent.y()), nz = per_axis(extent.z());
-  if (nx * ny * nz < spec.count) {
+  // The capacity in double: the product of three clamped counts may exceed an int64.
+  if (static_cast<double>(nx) * static_cast<double>(ny) * static_cast<double>(nz) < static_cast<double>(spec.count)) {
     throw InputError(where, 0, "[particles] lattice: the box holds " + std::to_string(nx * ny * nz) +
                                    " particles of radius_max " + std::to_string(r_max) +
                                    " m, asked for " + std::to_string(spec.count));
@@ -40,7 +46,7 @@ Particles lattice(const GeneratorSpec& spec, double r_max, const std::string& wh
   Particles particles;
   particles.reserve(static_cast<std::size_t>(spec.count));
   for (std::int64_t n = 0; n < spec.count; ++n) {
-    const std::int64_t i = n % nx, j = (n / nx) % ny, k = n / (nx * ny);
+    const std::int64_t i = n % nx, j = (n / nx) % ny, k = (n / nx) / ny;
     Particle p;
     p.id = n + 1;
     p.radius = draw_radius(spec, rng);
