@@ -282,6 +282,19 @@ void ColumnSign::inside_on_column(int i, int j, int k_begin, int k_end, char* in
     const double z0 = grid_.position(0, j, k_begin).z();
     above = std::upper_bound(above, end, z0, [](double value, const Crossing& c) { return value < c.z; });
   }
+  if (!winding_) {
+    // Parity of the crossings above (the same walk as below), counted as an index difference:
+    // (end - above) % 2 on the pointers divided by sizeof(Crossing) per node (callgrind, dragon
+    // 256^3: 11 of the 37 instructions per node of this function, 2026-12-01).
+    const std::size_t last = static_cast<std::size_t>(end - crossings_.data());
+    std::size_t at = static_cast<std::size_t>(above - crossings_.data());
+    for (int k = k_begin; k < k_end; ++k) {
+      const double z = grid_.position(0, j, k).z();
+      while (at != last && !(z < crossings_[at].z)) ++at;
+      inside[static_cast<std::size_t>(k - k_begin) * stride] = static_cast<char>((last - at) & 1);
+    }
+    return;
+  }
   for (int k = k_begin; k < k_end; ++k) {
     // z grows with k, so the first crossing strictly above z only moves up (same tie rule as
     // inside_on_segment's upper_bound: a crossing at z itself is not above).

@@ -159,15 +159,24 @@ std::uint32_t TriangleTree::build(std::vector<std::uint32_t>& order, const std::
   return index;
 }
 
+namespace {
+
+/// |p - box|^2, the same value as the former loop (max of three, then (x^2 + y^2) + z^2); always
+/// inlined: GCC 12 kept box_squared_distance() out of line with an initializer-list max, 0.29e9 of
+/// the 0.61e9 instructions of the brick-centre queries (dragon 256^3, band 3); exact mode, dragon
+/// 64^3, whole program: 5.24e9 -> 4.83e9 instructions (callgrind, 2026-12-01).
+[[gnu::always_inline]] inline double point_box_squared(const double lo[3], const double hi[3], double px, double py,
+                                                       double pz) {
+  const double dx = std::max(std::max(lo[0] - px, px - hi[0]), 0.0);
+  const double dy = std::max(std::max(lo[1] - py, py - hi[1]), 0.0);
+  const double dz = std::max(std::max(lo[2] - pz, pz - hi[2]), 0.0);
+  return dx * dx + dy * dy + dz * dz;
+}
+
+}  // namespace
+
 double TriangleTree::box_squared_distance(const double lo[3], const double hi[3], const Vec3& p) {
-  double d2 = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    const double below = lo[a] - p[a];
-    const double above = p[a] - hi[a];
-    const double d = std::max({below, above, 0.0});
-    d2 += d * d;
-  }
-  return d2;
+  return point_box_squared(lo, hi, p.x(), p.y(), p.z());
 }
 double TriangleTree::diagonal(const Node& n) {
   const double dx = n.hi[0] - n.lo[0], dy = n.hi[1] - n.lo[1], dz = n.hi[2] - n.lo[2];
@@ -209,20 +218,21 @@ void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest&
   Pending stack[128];
   int top = 0;
   std::uint32_t current = root;
-  if (box_squared_distance(nodes_[root].lo, nodes_[root].hi, p) > prune_bound) return;
+  const double px = p.x(), py = p.y(), pz = p.z();
+  if (point_box_squared(nodes_[root].lo, nodes_[root].hi, px, py, pz) > prune_bound) return;
   for (;;) {
     const Node& node = nodes_[current];
     if (node.count > 0) {
       for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
         const PreparedTriangle& t = triangles_[s];
-        if (box_squared_distance(t.lo, t.hi, p) > prune_bound) continue;  // cannot beat the bound
+        if (point_box_squared(t.lo, t.hi, px, py, pz) > prune_bound) continue;  // cannot beat the bound
         improve(squared_distance(p, t), s);
       }
     } else {
       const std::uint32_t left = current + 1;
       const std::uint32_t right = node.first;
-      const double dl = box_squared_distance(nodes_[left].lo, nodes_[left].hi, p);
-      const double dr = box_squared_distance(nodes_[right].lo, nodes_[right].hi, p);
+      const double dl = point_box_squared(nodes_[left].lo, nodes_[left].hi, px, py, pz);
+      const double dr = point_box_squared(nodes_[right].lo, nodes_[right].hi, px, py, pz);
       const bool left_first = dl <= dr;
       const std::uint32_t near = left_first ? left : right;
       const std::uint32_t far = left_first ? right : left;

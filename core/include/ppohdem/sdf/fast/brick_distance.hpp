@@ -37,6 +37,11 @@
 ///    the candidates of its 2^3 box: the minimum over them (vectorized box test, exact distance
 ///    where it can win, warm-started from the previous node) is the minimum over ALL triangles,
 ///    bit for bit the exact mode's value (tested). Nodes found beyond the band also take t_b.
+///    Cost (2026-12-01, same results bit for bit): the halves' candidate lists come from ONE pass
+///    over the parent's list (per-axis gaps to both halves, summed per half) with the gaps kept, so
+///    the near filter and the half centre's search skip on them; a leaf's candidates are grouped
+///    in buckets of increasing gap to the leaf box, and a node tests only the buckets whose
+///    smallest gap is within its bound (its point-to-box gap is never below the box's).
 ///  Transfer (nodes beyond the band): S = the nearest triangles of the 27 brick centres around
 ///  (and including) the node's brick; for a 4^3 box with centre c, K = {t in S : dist(c, t) <=
 ///  min_S dist(c, .) + 2 r} (every triangle that can be S's minimum at a node of the box), and
@@ -44,7 +49,10 @@
 ///  node's box of at most kTransferLeaf^3 nodes. The value is the distance to a real triangle
 ///  (never below the truth) and at most d(x) + 2 r_b + r' above it (r_b the brick's
 ///  half-diagonal, r' the small box's; proof in brick_distance.cpp); measured errors in
-///  docs/performance.md. Everything depends only on the brick's global position: thread and
+///  docs/performance.md. For a box of at most kTransferLeaf^3 nodes t_c is found directly as the
+///  nearest of S u {t_b} to c (every minimizer is in K; bounding-box pruning), and when the whole
+///  box lies in one vertex's Voronoi region of t_c (decided with a margin) each node takes
+///  |x - v|^2 as squared_distance() computes it; same values bit for bit. Everything depends only on the brick's global position: thread and
 ///  rank invariant as the exact part.
 #include <cstddef>
 #include <cstdint>
@@ -79,6 +87,8 @@ struct BrickCounters {
 
 class BrickDistance {
  public:
+  /// Band mode: a leaf box's candidates are grouped in this many buckets of increasing gap.
+  static constexpr int kLeafBuckets = 16;
   /// `band_distance` [m]: +infinity for exact everywhere, else the band half-width.
   /// `shared_candidates`: exact nodes by the shared-candidate scheme (true) or by one warm-started
   /// BVH query per node (false, the default: fewer instructions on the meshes measured).
@@ -98,7 +108,24 @@ class BrickDistance {
     std::vector<double> box_d2;
     std::vector<std::uint32_t> transfer;
     std::vector<std::vector<std::uint32_t>> transfer_level;  ///< band mode: candidates per box level
+    /// Band mode: the candidates of the (up to 8) halves of a box, with their box-to-box squared
+    /// gaps, filled by one pass over the box's candidates (band_children()); one set per depth.
+    struct ChildList {
+      std::vector<std::uint32_t> index;
+      std::vector<double> gap2;
+      std::size_t size = 0;  ///< entries in use (the vectors only grow)
+    };
+    struct Children {
+      ChildList list[8];
+      NodeBox box[8];
+      int count = 0;
+    };
+    std::vector<Children> children;  ///< band mode: per depth
     Candidates leaf;                       ///< band mode: a leaf box's candidates near its nodes
+    std::vector<double> leaf_gap2;         ///< band mode: their squared gaps to the leaf box
+    std::vector<std::uint8_t> leaf_bucket;  ///< band mode: each one's bucket (counting sort)
+    std::size_t leaf_bucket_start[kLeafBuckets + 1] = {};  ///< band mode: bucket k is [start[k], start[k + 1])
+    double leaf_bucket_min[kLeafBuckets] = {};  ///< band mode: smallest squared gap in bucket k
     std::vector<std::uint32_t> transfer_kept;  ///< band mode: the transferred set kept for a box
     std::uint32_t brick_triangle = 0;  ///< band mode: the brick centre's nearest triangle t_b
     double brick_d2 = 0.0;             ///< band mode: its squared distance to the brick centre
@@ -121,9 +148,13 @@ class BrickDistance {
   void solve_box(const NodeBox& box, int depth, const Workspace::Candidates* parent, TriangleTree::Nearest centre,
                  Workspace& ws, double* d2) const;
   TriangleTree::Nearest scan(const Workspace::Candidates& c, const Vec3& p, std::uint32_t hint, Workspace& ws) const;
+  TriangleTree::Nearest scan_buckets(const Workspace::Candidates& c, const Vec3& p, std::uint32_t hint,
+                                     Workspace& ws) const;
   void transfer_box(const NodeBox& box, Workspace& ws, double* d2) const;
-  void band_box(const NodeBox& box, int depth, const std::vector<std::uint32_t>& parent, Workspace& ws,
-                double* d2) const;
+  void transfer_fill(const NodeBox& part, const PreparedTriangle& t, Workspace& ws, double* d2) const;
+  void band_box(const NodeBox& box, int depth, Workspace::ChildList* own, Workspace& ws, double* d2) const;
+  void band_children(const NodeBox& box, const std::uint32_t* index, std::size_t n, double bound2,
+                     Workspace::Children& out) const;
   double half_diagonal(const NodeBox& box) const;
 
   const TriangleTree& tree_;
