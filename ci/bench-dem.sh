@@ -116,6 +116,11 @@ run_ours() {  # engine N steps case_dir
   for cores in 1 2; do
     for mode in threads ranks; do
       [ "$cores" -eq 1 ] && [ "$mode" = ranks ] && continue
+      if [ "$mode" = ranks ] && [ "$engine" = reference ]; then  # serial by design: refuses P > 1
+        printf 'ppohdem-%s (ranks)\t%s\t2\t%s\tnot run: the reference engine runs on one rank only\n' \
+          "$engine" "$n" "$steps" | tee -a "$RESULTS"
+        continue
+      fi
       dir="$case_dir/ppohdem-$engine-$cores-$mode"
       rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
       sed "s|^file = \"particles.csv\"|file = \"$case_dir/particles.csv\"|; s|^dir = \"ours_out\"|dir = \"$dir/out\"|" \
@@ -127,7 +132,7 @@ run_ours() {  # engine N steps case_dir
       else
         OMP_NUM_THREADS=1 "${MPIRUN[@]}" sh -c "$cmd" >out.txt 2>&1 && ok=1
       fi
-      loop=$(grep -oE 'wall [0-9.]+ s' out.txt | head -1 | awk '{print $2}')
+      loop=$(grep -oE 'wall [0-9.]+ s' out.txt | head -1 | awk '{print $2}' || true)
       # Under mpirun, an engine without MPI runs two independent copies: its run header then
       # says "ranks 1" and the run is not a 2-rank result.
       if [ "$mode" = ranks ] && ! grep -q 'ranks 2' out.txt; then
