@@ -25,6 +25,16 @@ constexpr int kLeafBuckets = BrickDistance::kLeafBuckets;
 
 /// max(a, 0) written so that the compiler turns it into a vector max (no branch).
 inline double positive(double a) { return a > 0.0 ? a : 0.0; }
+
+/// Squared gap from point c to a triangle's bounding box [m^2] (0 inside): a lower bound of the
+/// squared distance to the triangle, for pruning.
+template <class Tri, class Point>
+inline double gap2_to_bounds(const Tri& tri, const Point& c) {
+  const double gx = positive(tri.lo[0] - c.x()) + positive(c.x() - tri.hi[0]);
+  const double gy = positive(tri.lo[1] - c.y()) + positive(c.y() - tri.hi[1]);
+  const double gz = positive(tri.lo[2] - c.z()) + positive(c.z() - tri.hi[2]);
+  return gx * gx + gy * gy + gz * gz;
+}
 /// Shared candidates: clusters are kept whole while their box diagonal is at most kOpenRatio x
 /// the half-diagonal of the box of nodes they are filtered for (4 did best of 0.5, 1, 2, 4 on the
 /// dragon at 64^3, 2026-12-01).
@@ -333,10 +343,7 @@ void BrickDistance::transfer_box(const NodeBox& box, Workspace& ws, double* d2) 
     for (const std::uint32_t t : ws.transfer) {
       if (t == tb) continue;
       const PreparedTriangle& tri = triangles[t];
-      const double gx = positive(tri.lo[0] - c.x()) + positive(c.x() - tri.hi[0]);
-      const double gy = positive(tri.lo[1] - c.y()) + positive(c.y() - tri.hi[1]);
-      const double gz = positive(tri.lo[2] - c.z()) + positive(c.z() - tri.hi[2]);
-      if (gx * gx + gy * gy + gz * gz > prune) continue;
+      if (gap2_to_bounds(tri, c) > prune) continue;
       const double d = squared_distance(c, tri);
       ++evaluations;
       if (d < best || (d == best && t < tc)) {
@@ -517,10 +524,7 @@ void BrickDistance::band_box(const NodeBox& box, int depth, Workspace::ChildList
       if (gap2[s] > prune) continue;
       const std::uint32_t t = index[s];
       const PreparedTriangle& tri = triangles[t];
-      const double gx = positive(tri.lo[0] - c.x()) + positive(c.x() - tri.hi[0]);
-      const double gy = positive(tri.lo[1] - c.y()) + positive(c.y() - tri.hi[1]);
-      const double gz = positive(tri.lo[2] - c.z()) + positive(c.z() - tri.hi[2]);
-      if (gx * gx + gy * gy + gz * gz > prune) continue;
+      if (gap2_to_bounds(tri, c) > prune) continue;
       const double d = squared_distance(c, tri);
       ++ws.counters.distance_evaluations;
       if (d < best) {
