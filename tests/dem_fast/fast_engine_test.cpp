@@ -12,6 +12,7 @@
 
 #include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
+#include "ppohdem/dem/ordered_sum.hpp"
 #include "ppohdem/dem/particle_generator.hpp"
 #include "ppohdem/reference/dem/reference_engine.hpp"
 
@@ -200,7 +201,7 @@ TEST(FastEngine, FinalStateIsBitwiseTheSameForOneAndTwoThreads) {
   const auto two = run(2);
   omp_set_num_threads(before);
   expect_same_bits(one.first, two.first, "1 vs 2 threads");
-  // Energies are reduced per particle and then serially: the same bits too.
+  // Energies are reduced per particle and then in the fixed blocks of ordered_sum.hpp: the same bits too.
   EXPECT_EQ(one.second.elastic, two.second.elastic);
   EXPECT_EQ(one.second.dissipated, two.second.dissipated);
   EXPECT_EQ(one.second.boundary_work, two.second.boundary_work);
@@ -231,6 +232,43 @@ TEST(FastEngine, ThreadCountChangedMidRunContinuesBitwise) {
   ASSERT_GT(steady.contact_counts().particle_pairs, 100u) << "the scene must have frictional contacts";
   expect_same_bits(steady.particles(), switched.particles(), "1 thread vs 2 -> 1 -> 2 threads");
   EXPECT_EQ(steady.energies().dissipated, switched.energies().dissipated);
+#endif
+}
+
+TEST(FastEngine, KineticEnergySumsAreTheReferencesBitwiseOnTwoThreads) {
+#ifndef PPOHDEM_WITH_OPENMP
+  GTEST_SKIP() << "built without OpenMP (PPOHDEM_ENABLE_OPENMP=OFF)";
+#else
+  // Both engines sum over particles in the blocks of ordered_sum.hpp; the fast engine sums the
+  // blocks on its threads. With more than one block (1500 particles > kSumBlock) and 2 threads,
+  // its kinetic, rotational and gravitational energies must still be the reference's bits, and
+  // its boundary loads those of one thread.
+  const SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls);
+  ASSERT_GT(setup.particles.size(), kSumBlock) << "one block would not test the block order";
+  ReferenceEngine reference(setup);
+  reference.advance(200);
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  FastEngine one(setup);
+  one.advance(200);
+  omp_set_num_threads(2);
+  FastEngine two(setup);
+  two.advance(200);
+  omp_set_num_threads(before);
+  const Energies er = reference.energies();
+  const Energies ef = two.energies();
+  EXPECT_EQ(ef.kinetic, er.kinetic);
+  EXPECT_EQ(ef.rotational, er.rotational);
+  EXPECT_EQ(ef.gravitational, er.gravitational);
+  EXPECT_GT(er.kinetic, 0.0);
+  const auto l1 = one.boundary_loads();
+  const auto l2 = two.boundary_loads();
+  ASSERT_EQ(l1.size(), l2.size());
+  for (std::size_t b = 0; b < l1.size(); ++b) {
+    EXPECT_EQ(l1[b].force, l2[b].force) << "boundary " << b;
+    EXPECT_EQ(l1[b].moment_about_origin, l2[b].moment_about_origin) << "boundary " << b;
+  }
+  EXPECT_GT(two.contact_counts().particle_boundary, 20u);  // the loads are not all zero
 #endif
 }
 

@@ -1,9 +1,11 @@
 #include "ppohdem/reference/dem/reference_engine.hpp"
 
 #include <algorithm>
+#include <array>
 #include <string>
 
 #include "force_passes.hpp"
+#include "ppohdem/dem/ordered_sum.hpp"
 
 namespace ppohdem::reference::dem {
 
@@ -96,13 +98,18 @@ void ReferenceEngine::step() {
 }
 
 Energies ReferenceEngine::energies() const {
-  Energies e;
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
+  // Sums over the particles in the order of ordered_sum.hpp (blocks of 1024 particles), the
+  // order the parallel fast engine reproduces bit for bit [J].
+  const auto sums = ppohdem::dem::ordered_sum<3>(particles_.size(), [&](std::size_t i) {
     const Particle& p = particles_[i];
-    e.kinetic += 0.5 * mass_[i] * p.velocity.squaredNorm();
-    e.rotational += 0.5 * inertia_[i] * p.angular_velocity.squaredNorm();
-    e.gravitational -= mass_[i] * gravity_.dot(p.position);
-  }
+    return std::array{0.5 * mass_[i] * p.velocity.squaredNorm(),          // m |v|^2 / 2
+                      0.5 * inertia_[i] * p.angular_velocity.squaredNorm(),  // I |w|^2 / 2
+                      -(mass_[i] * gravity_.dot(p.position))};               // -m g . x
+  });
+  Energies e;
+  e.kinetic = sums[0];
+  e.rotational = sums[1];
+  e.gravitational = sums[2];
   e.elastic = elastic_;
   e.dissipated = dissipated_;
   e.boundary_work = boundary_work_;

@@ -3,6 +3,7 @@
 #include "ppohdem/dem/fast/fast_engine.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -13,6 +14,7 @@
 #include "fast_state.hpp"
 #include "pack.hpp"
 #include "ppohdem/dem/cell_grid.hpp"
+#include "ppohdem/dem/ordered_sum.hpp"
 #include "ppohdem/dem/pair_laws.hpp"
 #include "ppohdem/error.hpp"
 
@@ -42,6 +44,19 @@ TangentialSpring mirrored(const TangentialSpring& s) {
 }
 
 /// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
+/// ordered_sum.hpp's sum of term(0) .. term(n-1) with its blocks summed on the OpenMP threads:
+/// the same bits as the serial ordered_sum for any thread count.
+template <std::size_t K, class Term>
+std::array<double, K> parallel_ordered_sum(std::size_t n, const Term& term) {
+  std::vector<std::array<double, K>> blocks(sum_blocks(n));
+  const std::size_t count = blocks.size();
+  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+  for (std::size_t b = 0; b < count; ++b) {
+    blocks[b] = sum_range<K>(b * kSumBlock, std::min(n, (b + 1) * kSumBlock), term);
+  }
+  return add_blocks(blocks);
+}
+
 bool keeps_history(const TangentialSpring& s) { return s.stiffness != 0.0 || s.branch_i != Vec3::Zero() || s.displacement != Vec3::Zero(); }
 
 template <class T>
@@ -187,6 +202,7 @@ struct FastEngine::Impl {
     q.spring_pools.clear();
     q.records.clear();
     q.record_first.assign(n + 1, 0);
+    q.split_stale = true;
     halo_send.assign(static_cast<std::size_t>(comm->size()), {});
     halo_recv.assign(static_cast<std::size_t>(comm->size()), 0);
     out_valid = false;
@@ -307,6 +323,7 @@ struct FastEngine::Impl {
     make_ghosts();
     search_neighbours();
     install_history(h);
+    s.split_stale = true;  // the kernel's ranges are cut afresh for the new order
     add_lost_energy();
   }
 
@@ -422,7 +439,7 @@ struct FastEngine::Impl {
         }
         for (; a < a_end; ++a) lost(h.spring[a], k, h.partner_id[a]);
       }
-      lay_out_springs(s, max_threads());  // checks the code range, adds the threads' pools
+      lay_out_springs(s, kernel_threads(n));  // checks the code range, adds the ranges' pools
     }
     s.records.clear();
     s.record_first.assign(n + 1, 0);
@@ -507,18 +524,16 @@ struct FastEngine::Impl {
     std::vector<Load> all_records;
     std::vector<double> terms;  // several ranks: (elastic, dissipated, work, power) by construction index
     std::size_t escaped_here = 0;
-    for (std::size_t k = 0; k < s.owned; ++k) escaped_here += s.escaped_via[k] != 0 ? 1 : 0;
-    double e = 0.0, d = 0.0, w = 0.0, p = 0.0;
+    const std::size_t owned = s.owned;
+    PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : escaped_here) if (owned >= kParallelMin))
+    for (std::size_t k = 0; k < owned; ++k) escaped_here += s.escaped_via[k] != 0 ? 1 : 0;
+    std::array<double, 4> sums{};  // (elastic, dissipated, work, power) [J, J, J, W]
     if (!distributed()) {
       // One rank holds every particle: the sums read them in construction order directly.
-      for (std::size_t o = 0; o < total; ++o) {
+      sums = parallel_ordered_sum<4>(total, [&](std::size_t o) {
         const std::size_t k = s.where[o];
-        e += s.elastic_p[k];
-        d += s.dissipated_p[k];
-        w += s.work_p[k];
-        p += s.power_p[k];
-      }
-      for (const BoundaryRecord& r : s.records) all_records.push_back({s.original[r.particle], r.boundary, r.force, r.point});
+        return std::array{s.elastic_p[k], s.dissipated_p[k], s.work_p[k], s.power_p[k]};
+      });
       escaped = escaped_here;
     } else {
       terms.assign(total * 4, 0.0);
@@ -569,8 +584,8 @@ struct FastEngine::Impl {
           u.get(c.boundary);
           keep_deeper(s.deepest, c);
         }
-        const auto owned = u.get<std::uint64_t>();
-        for (std::uint64_t k = 0; k < owned; ++k) {
+        const auto theirs = u.get<std::uint64_t>();
+        for (std::uint64_t k = 0; k < theirs; ++k) {
           const auto o = u.get<std::uint32_t>();
           for (int c = 0; c < 4; ++c) u.get(terms[4 * o + c]);
         }
@@ -585,12 +600,12 @@ struct FastEngine::Impl {
         }
       }
     }
-    for (std::size_t o = 0; o < terms.size() / 4; ++o) {
-      e += terms[4 * o];
-      d += terms[4 * o + 1];
-      w += terms[4 * o + 2];
-      p += terms[4 * o + 3];
+    if (distributed()) {
+      sums = parallel_ordered_sum<4>(total, [&](std::size_t o) {
+        return std::array{terms[4 * o], terms[4 * o + 1], terms[4 * o + 2], terms[4 * o + 3]};
+      });
     }
+    const auto [e, d, w, p] = sums;
     elastic = e;
     dissipated += d;
     boundary_work += w;
@@ -598,14 +613,41 @@ struct FastEngine::Impl {
     // evaluation (dt = 0) records P(0).
     boundary_work += 0.5 * (power + p) * history_dt;
     power = p;
-    // Boundary loads: the records of all ranks, summed in (construction index, boundary) order.
-    std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
-      return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
-    });
-    loads.assign(s.boundaries.size(), BoundaryLoad{});
-    for (const Load& r : all_records) {
-      loads[r.boundary].force -= r.force;
-      loads[r.boundary].moment_about_origin += r.point.cross(-r.force);
+    // Boundary loads: minus the records' forces, in (construction index, boundary) order grouped
+    // in the blocks of construction indices of ordered_sum.hpp (each block from zero, then the
+    // blocks in order): the same bits for one rank (blocks on the threads) and several (the
+    // gathered records sorted).
+    const std::size_t nb = s.boundaries.size();
+    std::vector<std::vector<BoundaryLoad>> blocks(sum_blocks(total), std::vector<BoundaryLoad>(nb));
+    auto add = [](std::vector<BoundaryLoad>& to, std::uint32_t boundary, const Vec3& force, const Vec3& point) {
+      to[boundary].force -= force;
+      to[boundary].moment_about_origin += point.cross(-force);
+    };
+    if (!distributed()) {
+      if (!s.records.empty()) {
+        const std::size_t count = blocks.size();
+        PPOHDEM_OMP(omp parallel for schedule(static) if (total >= kParallelMin))
+        for (std::size_t b = 0; b < count; ++b) {
+          for (std::size_t o = b * kSumBlock; o < std::min(total, (b + 1) * kSumBlock); ++o) {
+            const std::size_t k = s.where[o];
+            for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
+              add(blocks[b], s.records[r].boundary, s.records[r].force, s.records[r].point);
+            }
+          }
+        }
+      }
+    } else {
+      std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
+        return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
+      });
+      for (const Load& r : all_records) add(blocks[r.original / kSumBlock], r.boundary, r.force, r.point);
+    }
+    loads.assign(nb, BoundaryLoad{});
+    for (const auto& block : blocks) {
+      for (std::size_t b = 0; b < nb; ++b) {
+        loads[b].force += block[b].force;
+        loads[b].moment_about_origin += block[b].moment_about_origin;
+      }
     }
     out_valid = false;
   }
@@ -759,29 +801,27 @@ const Particles& FastEngine::particles() const {
 Energies FastEngine::energies() const {
   const Impl& m = *impl_;
   const FastState& s = m.s;
+  // The reference's expressions and its summation order (ordered_sum.hpp): the same bits.
+  auto energy_terms = [&](std::size_t i) {
+    return std::array{0.5 * s.mass[i] * s.v[i].squaredNorm(), 0.5 * s.inertia[i] * s.w[i].squaredNorm(),
+                      -(s.mass[i] * s.gravity.dot(s.x[i]))};
+  };
+  std::array<double, 3> sums{};
+  if (!m.distributed()) {  // every particle here: construction order through `where`
+    sums = parallel_ordered_sum<3>(m.total, [&](std::size_t o) { return energy_terms(s.where[o]); });
+  } else {
+    const std::vector<double> terms = m.global_columns(3, [&](std::size_t i, double* t) {
+      const auto e = energy_terms(i);
+      std::copy(e.begin(), e.end(), t);
+    });
+    sums = parallel_ordered_sum<3>(m.total, [&](std::size_t o) {
+      return std::array{terms[3 * o], terms[3 * o + 1], terms[3 * o + 2]};
+    });
+  }
   Energies e;
-  if (!m.distributed()) {  // every particle here: sum in construction order directly (same bits)
-    for (std::size_t o = 0; o < m.total; ++o) {
-      const std::size_t i = s.where[o];
-      e.kinetic += 0.5 * s.mass[i] * s.v[i].squaredNorm();
-      e.rotational += 0.5 * s.inertia[i] * s.w[i].squaredNorm();
-      e.gravitational -= s.mass[i] * s.gravity.dot(s.x[i]);
-    }
-    e.elastic = m.elastic;
-    e.dissipated = m.dissipated;
-    e.boundary_work = m.boundary_work;
-    return e;
-  }
-  const std::vector<double> terms = m.global_columns(3, [&](std::size_t i, double* t) {
-    t[0] = 0.5 * s.mass[i] * s.v[i].squaredNorm();
-    t[1] = 0.5 * s.inertia[i] * s.w[i].squaredNorm();
-    t[2] = s.mass[i] * s.gravity.dot(s.x[i]);
-  });
-  for (std::size_t o = 0; o < m.total; ++o) {  // construction order (see evaluate_forces)
-    e.kinetic += terms[3 * o];
-    e.rotational += terms[3 * o + 1];
-    e.gravitational -= terms[3 * o + 2];
-  }
+  e.kinetic = sums[0];
+  e.rotational = sums[1];
+  e.gravitational = sums[2];
   e.elastic = m.elastic;
   e.dissipated = m.dissipated;
   e.boundary_work = m.boundary_work;
@@ -812,7 +852,8 @@ std::size_t FastEngine::memory_bytes() const {
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.elastic_p) + bytes(s.dissipated_p) + bytes(s.work_p) + bytes(s.power_p) + bytes(s.first) +
-         bytes(s.partner) + bytes(s.spring_of) + pool_bytes + bytes(s.records) + bytes(s.record_first);
+         bytes(s.partner) + bytes(s.spring_of) + pool_bytes + bytes(s.records) + bytes(s.record_first) +
+         bytes(s.next_records) + bytes(s.next_record_first);
 }
 
 EngineState FastEngine::save_state() const {

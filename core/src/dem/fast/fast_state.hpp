@@ -2,6 +2,7 @@
 // The state of the fast engine (structure of arrays, cell-sorted) and its force kernel
 // interface. Private to core/src/dem/fast. Formulas: ppohdem/dem/contact_force.hpp; the
 // divergences from the reference engine are listed in ppohdem/dem/fast/fast_engine.hpp.
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -51,12 +52,13 @@ struct BoundaryRecord {
   Vec3 point = Vec3::Zero();   ///< contact point [m]
 };
 
-/// What one thread produced in a force evaluation (concatenated in thread order, which is
-/// storage order because the loops use schedule(static)).
+/// What one range of particles produced in a force evaluation (concatenated in range order,
+/// which is storage order: the ranges are contiguous and ascending).
 struct ThreadOutput {
   std::vector<BoundaryRecord> records;
   std::vector<std::uint32_t> newly_escaped;  ///< storage indices
   std::optional<LargestOverlap> deepest;     ///< of this thread's contacts
+  std::size_t base = 0;                      ///< offset of `records` in the merged records
 };
 
 /// Deterministic choice of the deeper contact: larger ratio, ties to the smaller
@@ -126,7 +128,13 @@ struct FastState {
   // --- boundary contacts of the last evaluation, sorted by (particle, boundary) ---
   std::vector<BoundaryRecord> records;
   std::vector<std::uint32_t> record_first;  ///< n + 1 offsets into records
-  std::vector<ThreadOutput> threads;
+  std::vector<BoundaryRecord> next_records;        ///< the kernel's output buffers (swapped in)
+  std::vector<std::uint32_t> next_record_first;
+  std::vector<ThreadOutput> threads;  ///< per kernel range
+  /// The force kernel's ranges: range r computes the owned particles [split[r], split[r + 1]),
+  /// one range per thread, cut by estimated work (balance_split) after every list build.
+  std::vector<std::size_t> split;
+  bool split_stale = true;  ///< set by a list build or a (re)load
   // --- scene ---
   std::vector<WallData> walls;        ///< per boundary index (unused entries for others)
   std::vector<bool> is_wall;          ///< per boundary index
@@ -143,6 +151,40 @@ struct FastState {
 
 inline constexpr std::uint32_t kNotHere = 0xffffffffu;  ///< `where` of a particle owned elsewhere
 inline constexpr std::uint32_t kNoSpring = 0xffffffffu;  ///< spring_of of a slot without history
+
+/// Threads of the force kernel for `owned` particles (one below kParallelMin).
+inline int kernel_threads(std::size_t owned) { return owned >= kParallelMin ? max_threads() : 1; }
+
+/// Cuts the owned particles into `threads` contiguous ranges of about equal estimated work,
+/// in units of one idle neighbour slot: 8 per particle (integration, walls, stores), 1 per slot,
+/// 15 more per touching slot (a contact law evaluation; ratios from callgrind of the bench
+/// scene, 2026-12-01). Only the speed depends on the cut: every particle's result is computed
+/// by one thread from its own data. The estimate uses the positions at the cut.
+inline void balance_split(FastState& s, int threads) {
+  const std::size_t n = s.owned;
+  std::vector<std::uint64_t> cumulative(n + 1, 0);
+  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t work = 8;
+    if (s.first.size() == n + 1) {
+      for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
+        const std::uint32_t j = s.partner[slot];
+        const double reach = s.radius[i] + s.radius[j];
+        work += (s.x[i] - s.x[j]).squaredNorm() < reach * reach ? 16 : 1;
+      }
+    }
+    cumulative[i + 1] = work;
+  }
+  for (std::size_t i = 0; i < n; ++i) cumulative[i + 1] += cumulative[i];
+  s.split.assign(static_cast<std::size_t>(threads) + 1, n);
+  s.split[0] = 0;
+  for (int r = 1; r < threads; ++r) {
+    const std::uint64_t target = cumulative[n] * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(threads);
+    s.split[static_cast<std::size_t>(r)] =
+        static_cast<std::size_t>(std::lower_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin());
+  }
+  s.split_stale = false;
+}
 
 /// Lays the springs of every slot out afresh in pool 0, in slot order, with pools for `threads`
 /// OpenMP threads after it (at a list build, and if the thread count changed). Throws if the

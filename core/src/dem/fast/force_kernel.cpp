@@ -53,22 +53,38 @@ class Kernel final : public ForceKernel {
         if (s.is_wall[b]) s.walls[b].point = s.walls[b].point0 + s.walls[b].velocity * time;  // PlaneWall::point_at
       }
     }
-    const int threads = max_threads();
-    if (s.threads.size() < static_cast<std::size_t>(threads)) s.threads.resize(static_cast<std::size_t>(threads));
+    // One range of particles per thread, balanced by estimated work (balance_split), so a
+    // bed whose contacts sit in one part of the cell order does not idle a thread. Range r
+    // appends its new springs to pool 1 + r only; ranges move only when the pools are laid
+    // out afresh, so no two threads ever touch the same pool.
+    const int threads = kernel_threads(n);
+    const auto ranges = static_cast<std::size_t>(threads);
+    if (s.threads.size() < ranges) s.threads.resize(ranges);
     if constexpr (kFriction) {
-      if (s.spring_pools.size() != static_cast<std::size_t>(threads) + 1) lay_out_springs(s, threads);
+      if (s.spring_pools.size() != ranges + 1) lay_out_springs(s, threads);
+    }
+    if (s.split_stale || s.split.size() != ranges + 1) {
+      if constexpr (kFriction) {
+        bool pools_empty = true;
+        for (std::size_t pool = 1; pool < s.spring_pools.size(); ++pool) pools_empty = pools_empty && s.spring_pools[pool].empty();
+        if (!pools_empty) lay_out_springs(s, threads);
+      }
+      balance_split(s, threads);
     }
     std::size_t pairs = 0;
     std::size_t touching_boundaries = 0;
-    PPOHDEM_OMP(omp parallel reduction(+ : pairs, touching_boundaries) if (n >= kParallelMin))
+    constexpr bool kRecords = kWalls || kOthers;
+    if (kRecords && s.next_record_first.size() != n + 1) s.next_record_first.assign(n + 1, 0);
+    PPOHDEM_OMP(omp parallel num_threads(threads) reduction(+ : pairs, touching_boundaries))
     {
-      [[maybe_unused]] const std::size_t my_pool = 1 + static_cast<std::size_t>(thread_id());  // new springs of this thread
-      ThreadOutput& out = s.threads[static_cast<std::size_t>(thread_id())];
+    PPOHDEM_OMP(omp for schedule(static, 1))
+    for (std::size_t range = 0; range < ranges; ++range) {
+      [[maybe_unused]] const std::size_t my_pool = 1 + range;  // new springs of this range
+      ThreadOutput& out = s.threads[range];
       out.records.clear();
       out.newly_escaped.clear();
       out.deepest.reset();
-      PPOHDEM_OMP(omp for schedule(static))
-      for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) {
         Vec3 force = Vec3::Zero();
         Vec3 torque = Vec3::Zero();
         double elastic = 0.0, dissipated = 0.0, work = 0.0, power = 0.0;
@@ -218,23 +234,43 @@ class Kernel final : public ForceKernel {
         s.dissipated_p[i] = dissipated;
         s.work_p[i] = work;
         s.power_p[i] = power;
+        if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
       }
+    }
+    // The new boundary records: the ranges' blocks in range order are in storage order. Each
+    // range copies its block and offsets its particles' counts, in parallel.
+    if constexpr (kRecords) {
+      PPOHDEM_OMP(omp single)
+      {
+        std::size_t count = 0;
+        for (std::size_t range = 0; range < ranges; ++range) {
+          s.threads[range].base = count;
+          count += s.threads[range].records.size();
+        }
+        s.next_records.resize(count);
+      }
+      PPOHDEM_OMP(omp for schedule(static, 1))
+      for (std::size_t range = 0; range < ranges; ++range) {
+        const ThreadOutput& out = s.threads[range];
+        std::copy(out.records.begin(), out.records.end(), s.next_records.begin() + static_cast<std::ptrdiff_t>(out.base));
+        const auto base = static_cast<std::uint32_t>(out.base);
+        for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) s.next_record_first[i + 1] += base;
+      }
+    }
     }
     s.pair_contacts = pairs;
     s.boundary_contacts = touching_boundaries;
-    // New boundary records: the thread blocks in thread order are in storage order.
     s.deepest.reset();
     for (int th = 0; th < threads; ++th) {
       if (const auto& d = s.threads[static_cast<std::size_t>(th)].deepest) keep_deeper(s.deepest, *d);
     }
-    s.records.clear();
-    for (int th = 0; th < threads; ++th) {
-      const auto& r = s.threads[static_cast<std::size_t>(th)].records;
-      s.records.insert(s.records.end(), r.begin(), r.end());
+    if constexpr (kRecords) {
+      s.records.swap(s.next_records);
+      s.record_first.swap(s.next_record_first);
+    } else {
+      s.records.clear();
+      s.record_first.assign(n + 1, 0);
     }
-    s.record_first.assign(n + 1, 0);
-    for (const BoundaryRecord& r : s.records) ++s.record_first[r.particle + 1];
-    for (std::size_t i = 0; i < n; ++i) s.record_first[i + 1] += s.record_first[i];
     for (int th = 0; th < threads; ++th) {
       for (const std::uint32_t i : s.threads[static_cast<std::size_t>(th)].newly_escaped) {
         const std::size_t b = static_cast<std::size_t>(s.escaped_via[i] - 1);

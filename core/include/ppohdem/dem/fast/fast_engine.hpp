@@ -18,10 +18,16 @@
 ///     so forces, torques and trajectories equal the reference's bit for bit;
 ///   - the contact history of a pair is kept twice (once per side, mirrored), keyed by the
 ///     partner's global id and carried over by id when the list is rebuilt;
-///   - energies and counts are summed per particle and then in construction order (histories
-///     dropped at a list build: by construction index, then partner id): the same for any
-///     thread count, storage order and rank count; they differ from the reference's single
-///     running sum by round-off (relative ~1e-15 per step);
+///   - energies, counts and boundary loads are summed per particle and then over particles in
+///     the blocked construction order of ppohdem/dem/ordered_sum.hpp (blocks of 1024 summed on
+///     the threads, then the block sums in order; histories dropped at a list build: by
+///     construction index, then partner id): the same for any thread count, storage order and
+///     rank count. Kinetic, rotational and gravitational energy are the reference's sums bit
+///     for bit (it sums in the same blocks); the contact terms differ from the reference's
+///     single running sum over pairs by round-off (relative ~1e-15 per step);
+///   - the force loop gives each thread one contiguous range of particles cut by estimated
+///     work (neighbour slots, touching slots) at every list build, so a bed whose contacts lie
+///     in one part of the cell order keeps both threads busy;
 ///   - kernels are templates over (law, friction, walls, other boundaries) chosen once at
 ///     construction: a frictionless scene has no history code, a scene without walls no wall
 ///     loop; planar walls are evaluated inline (PlaneWall's formulas), other boundaries
