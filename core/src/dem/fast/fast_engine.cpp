@@ -323,8 +323,34 @@ struct FastEngine::Impl {
     make_ghosts();
     search_neighbours();
     install_history(h);
+    mark_near_boundaries();
     s.split_stale = true;  // the kernel's ranges are cut afresh for the new order
     add_lost_energy();
+  }
+
+  /// FastState::near_boundaries at a list build. Until the next build every owned particle
+  /// stays within skin / 2 of x_build (the rebuild rule), so its distance to a fixed plane
+  /// wall changes by at most skin / 2: a wall farther than R + skin now stays farther than
+  /// R + skin / 2 > R (no contact) and > 0 (not crossed). The margin skin / 2 covers the
+  /// rounding of the distance many times over.
+  void mark_near_boundaries() {
+    const std::size_t n = s.owned;
+    const std::size_t nb = s.boundaries.size();
+    std::uint32_t always = 0;  // boundaries evaluated for every particle
+    for (std::size_t b = 0; b < std::min<std::size_t>(nb, 32); ++b) {
+      if (!s.is_wall[b] || s.walls[b].velocity != Vec3::Zero()) always |= 1u << b;
+    }
+    s.near_boundaries.assign(n, always);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    for (std::size_t k = 0; k < n; ++k) {
+      std::uint32_t near = always;
+      for (std::size_t b = 0; b < std::min<std::size_t>(nb, 32); ++b) {
+        if ((always >> b) & 1u) continue;
+        const double distance = (s.x[k] - s.walls[b].point0).dot(s.walls[b].normal);
+        if (distance < s.radius[k] + skin) near |= 1u << b;
+      }
+      s.near_boundaries[k] = near;
+    }
   }
 
   void sort_owned_by_cell(History& h) {
@@ -853,7 +879,7 @@ std::size_t FastEngine::memory_bytes() const {
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.elastic_p) + bytes(s.dissipated_p) + bytes(s.work_p) + bytes(s.power_p) + bytes(s.first) +
          bytes(s.partner) + bytes(s.spring_of) + pool_bytes + bytes(s.records) + bytes(s.record_first) +
-         bytes(s.next_records) + bytes(s.next_record_first);
+         bytes(s.next_records) + bytes(s.next_record_first) + bytes(s.near_boundaries);
 }
 
 EngineState FastEngine::save_state() const {

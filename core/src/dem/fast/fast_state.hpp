@@ -97,6 +97,10 @@ struct FastState {
   /// permuted with them, and to be packed with them for ghosts and migration.
   std::vector<std::uint16_t> material;
   std::vector<std::int32_t> escaped_via;      ///< 0, or 1 + index of the boundary crossed first
+  /// Bit b set: boundary b must be evaluated for this particle until the next list build (it
+  /// moves, it is not a plane wall, or it is a fixed wall within R + skin at the build); bits
+  /// exist for the first 32 boundaries, the others are always evaluated. Owned particles only.
+  std::vector<std::uint32_t> near_boundaries;
   std::vector<double> elastic_p, dissipated_p, work_p;  ///< per-particle energy terms [J]
   std::vector<double> power_p;  ///< per-particle boundary power (F - F_d) . v_s [W]
   // --- full neighbour list (CSR) of the owned particles, each range sorted by the partner's id;
