@@ -3,11 +3,20 @@
 #include "ppohdem/sdf/fast/nearest_triangle.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace ppohdem::fast {
 
 namespace {
+
+/// Nodes of at most this many triangles get an oriented box (larger ones: the axis-aligned box,
+/// which is about as tight on curved clusters and saves build time).
+constexpr std::uint32_t kOrientedMaxTriangles = 1024;
 
 double segment_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   // t = (p - a).(b - a) / |b - a|^2 clamped to [0, 1] (a == b: the point a).
@@ -93,7 +102,8 @@ double squared_distance(const Vec3& p, const PreparedTriangle& t) {
   return std::min(on_face, edges_squared_distance(p, t));
 }
 
-TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale) {
+TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bool oriented_boxes)
+    : oriented_boxes_(oriented_boxes) {
   const std::size_t n = mesh.size();
   std::vector<Vec3> centroid(n);
   std::vector<std::uint32_t> order(n);
@@ -110,15 +120,30 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale) {
   // Query points far from the mesh round at their own scale: the larger of the two counts.
   slack_ = 1e-12 * std::max({scale, std::abs(coordinate_scale), 1e-300});
   nodes_.reserve(2 * n / kLeafSize + 2);
+  if (oriented_boxes_) oriented_.reserve(2 * n / kLeafSize + 2);
   if (n > 0) build(order, centroid, mesh.triangles, 0, static_cast<std::uint32_t>(n));
   triangles_.reserve(n);
   for (std::uint32_t t : order) triangles_.push_back(prepare_triangle(mesh.triangles[t], t));
+  if (!oriented_boxes_) return;
+  pairs_.resize(nodes_.size());
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    if (nodes_[i].count > 0) continue;
+    const OrientedNode* child[2] = {&oriented_[i + 1], &oriented_[nodes_[i].first]};
+    for (int c = 0; c < 2; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        for (int a = 0; a < 3; ++a) pairs_[i].axis[r][a][c] = child[c]->axis[r][a];
+        pairs_[i].lo[r][c] = child[c]->lo[r];
+        pairs_[i].hi[r][c] = child[c]->hi[r];
+      }
+    }
+  }
 }
 
 std::uint32_t TriangleTree::build(std::vector<std::uint32_t>& order, const std::vector<Vec3>& centroid,
                                   const std::vector<Triangle>& input, std::uint32_t begin, std::uint32_t end) {
   const auto index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
+  if (oriented_boxes_) oriented_.emplace_back();
   Node node;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 hi = -lo;
@@ -139,6 +164,7 @@ std::uint32_t TriangleTree::build(std::vector<std::uint32_t>& order, const std::
     node.first = begin;
     node.count = end - begin;
     nodes_[index] = node;
+    fit_oriented_box(input, order, begin, end, index);
     return index;
   }
   // Median split of the centroids along the longest axis of their box.
@@ -156,7 +182,74 @@ std::uint32_t TriangleTree::build(std::vector<std::uint32_t>& order, const std::
   node.first = build(order, centroid, input, middle, end);
   node.count = 0;
   nodes_[index] = node;
+  fit_oriented_box(input, order, begin, end, index);
   return index;
+}
+
+void TriangleTree::fit_oriented_box(const std::vector<Triangle>& input, const std::vector<std::uint32_t>& order,
+                                    std::uint32_t begin, std::uint32_t end, std::uint32_t index) {
+  if (!oriented_boxes_) return;
+  const Node& node = nodes_[index];
+  OrientedNode& out = oriented_[index];
+  out.first = node.first;
+  out.count = node.count;
+  // Default: the identity frame, whose box is the axis-aligned one (then the query's bound is
+  // bit for bit the former point-to-box distance).
+  std::copy(node.lo, node.lo + 3, out.lo);
+  std::copy(node.hi, node.hi + 3, out.hi);
+  if (end - begin > kOrientedMaxTriangles) return;
+  // Any orthonormal frame gives a valid bound; the mean normal's frame gives a thin box where the
+  // triangles are nearly coplanar, whatever their slope (an axis-aligned box around an oblique
+  // patch is as thick as it is wide, so a query ball tangent to the surface meets many of them).
+  // The slack covers the rounding of u.x here, of u.p in the query and of the frame's
+  // orthonormality (see node_lower_bound()).
+  Vec3 normal = Vec3::Zero();
+  for (std::uint32_t s = begin; s < end; ++s) {
+    const auto& v = input[order[s]].v;
+    normal += (v[1] - v[0]).cross(v[2] - v[0]);
+  }
+  const double length = normal.norm();
+  if (!(length > 0.0) || !std::isfinite(length)) return;
+  const Vec3 n = normal / length;
+  int across = 0;  // the coordinate axis most across n, projected onto n's plane
+  if (std::abs(n.y()) < std::abs(n[across])) across = 1;
+  if (std::abs(n.z()) < std::abs(n[across])) across = 2;
+  const Vec3 u = (Vec3::Unit(across) - n[across] * n).normalized();
+  const Vec3 w = n.cross(u);
+  // Across n, the principal directions of the vertices (a tighter box for elongated clusters).
+  const Vec3 origin(node.lo[0], node.lo[1], node.lo[2]);
+  double suu = 0.0, suw = 0.0, sww = 0.0, su = 0.0, sw = 0.0, count = 0.0;
+  for (std::uint32_t s = begin; s < end; ++s) {
+    for (const Vec3& v : input[order[s]].v) {
+      const double x = u.dot(v - origin), y = w.dot(v - origin);
+      suu += x * x, suw += x * y, sww += y * y, su += x, sw += y, count += 1.0;
+    }
+  }
+  const double cuu = suu - su * su / count, cuw = suw - su * sw / count, cww = sww - sw * sw / count;
+  const double angle = 0.5 * std::atan2(2.0 * cuw, cuu - cww);
+  const Vec3 e1 = (std::cos(angle) * u + std::sin(angle) * w).normalized();
+  const std::array<Vec3, 3> frame = {n, e1, n.cross(e1)};
+  double flo[3], fhi[3];
+  for (int r = 0; r < 3; ++r) {
+    flo[r] = std::numeric_limits<double>::infinity();
+    fhi[r] = -flo[r];
+  }
+  for (std::uint32_t s = begin; s < end; ++s) {
+    for (const Vec3& v : input[order[s]].v) {
+      for (int r = 0; r < 3; ++r) {
+        const double x = frame[r].dot(v);
+        flo[r] = std::min(flo[r], x);
+        fhi[r] = std::max(fhi[r], x);
+      }
+    }
+  }
+  const double volume = (node.hi[0] - node.lo[0]) * (node.hi[1] - node.lo[1]) * (node.hi[2] - node.lo[2]);
+  if (!((fhi[0] - flo[0]) * (fhi[1] - flo[1]) * (fhi[2] - flo[2]) < volume)) return;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out.axis[r][c] = frame[r][c];
+    out.lo[r] = flo[r] - slack_;
+    out.hi[r] = fhi[r] + slack_;
+  }
 }
 
 namespace {
@@ -173,7 +266,27 @@ namespace {
   return dx * dx + dy * dy + dz * dz;
 }
 
+/// TriangleTree::lower_bound_squared(), inlined in the traversal: sum over the frame's rows u of g^2,
+/// g = max(u.p - hi, lo - u.p, 0) <= |u.(p - x)| for every x of the node's triangles, and
+/// sum (u.(p - x))^2 = |p - x|^2 for an orthonormal frame. The frame is orthonormal to a few eps
+/// and u.p rounds at a few eps |p|: errors of order eps S, which the slack (1e-12 S) widening
+/// [lo, hi] exceeds by orders of magnitude, so the bound stays below the true distance.
+[[gnu::always_inline]] inline double node_lower_bound(const TriangleTree::OrientedNode& n, double px, double py,
+                                                      double pz) {
+  double sum = 0.0;
+  for (int r = 0; r < 3; ++r) {
+    const double s = n.axis[r][0] * px + n.axis[r][1] * py + n.axis[r][2] * pz;
+    const double g = std::max(std::max(s - n.hi[r], n.lo[r] - s), 0.0);
+    sum += g * g;
+  }
+  return sum;
+}
+
 }  // namespace
+
+double TriangleTree::lower_bound_squared(const OrientedNode& n, const Vec3& p) {
+  return node_lower_bound(n, p.x(), p.y(), p.z());
+}
 
 double TriangleTree::box_squared_distance(const double lo[3], const double hi[3], const Vec3& p) {
   return point_box_squared(lo, hi, p.x(), p.y(), p.z());
@@ -195,7 +308,53 @@ TriangleTree::Nearest TriangleTree::nearest(const Vec3& p, std::int64_t hint) co
   return best;
 }
 
-void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest& best) const {
+namespace {
+
+[[gnu::always_inline]] inline double node_lower_bound(const TriangleTree::Node& n, double px, double py, double pz) {
+  return point_box_squared(n.lo, n.hi, px, py, pz);
+}
+
+/// Both children's bounds from an internal node's ChildPair: node_lower_bound() of each, the same
+/// operations in the same order (SSE2 without FMA rounds each lane as the scalar code does).
+[[gnu::always_inline]] inline void child_bounds(const TriangleTree::ChildPair& c, double px, double py, double pz,
+                                                double& left, double& right) {
+#if defined(__SSE2__)
+  const __m128d x = _mm_set1_pd(px), y = _mm_set1_pd(py), z = _mm_set1_pd(pz), zero = _mm_setzero_pd();
+  __m128d sum = zero;
+  for (int r = 0; r < 3; ++r) {
+    const __m128d ux = _mm_mul_pd(_mm_load_pd(c.axis[r][0]), x);
+    const __m128d uy = _mm_mul_pd(_mm_load_pd(c.axis[r][1]), y);
+    const __m128d uz = _mm_mul_pd(_mm_load_pd(c.axis[r][2]), z);
+    const __m128d s = _mm_add_pd(_mm_add_pd(ux, uy), uz);
+    const __m128d above = _mm_sub_pd(s, _mm_load_pd(c.hi[r]));
+    const __m128d below = _mm_sub_pd(_mm_load_pd(c.lo[r]), s);
+    const __m128d g = _mm_max_pd(_mm_max_pd(above, below), zero);
+    sum = _mm_add_pd(sum, _mm_mul_pd(g, g));
+  }
+  left = _mm_cvtsd_f64(sum);
+  right = _mm_cvtsd_f64(_mm_unpackhi_pd(sum, sum));
+#else
+  double d[2];
+  for (int k = 0; k < 2; ++k) {
+    double sum = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      const double s = c.axis[r][0][k] * px + c.axis[r][1][k] * py + c.axis[r][2][k] * pz;
+      const double g = std::max(std::max(s - c.hi[r][k], c.lo[r][k] - s), 0.0);
+      sum += g * g;
+    }
+    d[k] = sum;
+  }
+  left = d[0];
+  right = d[1];
+#endif
+}
+
+/// refine_in_subtree() over either node array (the same pruning rule; only the bound differs).
+/// `pairs`: the children's bounds of an oriented tree, or nullptr (NodeT = Node: its boxes).
+template <class NodeT>
+void refine_nodes(const NodeT* nodes, const TriangleTree::ChildPair* pairs,
+                  const std::vector<PreparedTriangle>& triangles, double slack, const Vec3& p, std::uint32_t root,
+                  TriangleTree::Nearest& best) {
   // prune_bound = (sqrt(best) + slack)^2: boxes farther than that cannot hold a triangle whose
   // computed distance is <= best (see the header).
   double prune_bound = std::numeric_limits<double>::infinity();
@@ -203,12 +362,12 @@ void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest&
     if (d2 < best.squared_distance || (d2 == best.squared_distance && t < best.triangle)) {
       best.squared_distance = d2;
       best.triangle = t;
-      const double r = std::sqrt(d2) + slack_;
+      const double r = std::sqrt(d2) + slack;
       prune_bound = r * r;
     }
   };
   if (std::isfinite(best.squared_distance)) {
-    const double r = std::sqrt(best.squared_distance) + slack_;
+    const double r = std::sqrt(best.squared_distance) + slack;
     prune_bound = r * r;
   }
   struct Pending {
@@ -219,20 +378,25 @@ void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest&
   int top = 0;
   std::uint32_t current = root;
   const double px = p.x(), py = p.y(), pz = p.z();
-  if (point_box_squared(nodes_[root].lo, nodes_[root].hi, px, py, pz) > prune_bound) return;
+  if (node_lower_bound(nodes[root], px, py, pz) > prune_bound) return;
   for (;;) {
-    const Node& node = nodes_[current];
+    const NodeT& node = nodes[current];
     if (node.count > 0) {
       for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
-        const PreparedTriangle& t = triangles_[s];
+        const PreparedTriangle& t = triangles[s];
         if (point_box_squared(t.lo, t.hi, px, py, pz) > prune_bound) continue;  // cannot beat the bound
         improve(squared_distance(p, t), s);
       }
     } else {
       const std::uint32_t left = current + 1;
       const std::uint32_t right = node.first;
-      const double dl = point_box_squared(nodes_[left].lo, nodes_[left].hi, px, py, pz);
-      const double dr = point_box_squared(nodes_[right].lo, nodes_[right].hi, px, py, pz);
+      double dl, dr;
+      if constexpr (std::is_same_v<NodeT, TriangleTree::OrientedNode>) {
+        child_bounds(pairs[current], px, py, pz, dl, dr);
+      } else {
+        dl = node_lower_bound(nodes[left], px, py, pz);
+        dr = node_lower_bound(nodes[right], px, py, pz);
+      }
       const bool left_first = dl <= dr;
       const std::uint32_t near = left_first ? left : right;
       const std::uint32_t far = left_first ? right : left;
@@ -255,6 +419,16 @@ void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest&
       }
     }
     if (!found) break;
+  }
+}
+
+}  // namespace
+
+void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest& best) const {
+  if (oriented_boxes_) {
+    refine_nodes(oriented_.data(), pairs_.data(), triangles_, slack_, p, root, best);
+  } else {
+    refine_nodes(nodes_.data(), nullptr, triangles_, slack_, p, root, best);
   }
 }
 
@@ -289,7 +463,9 @@ void TriangleTree::collect_near_box(const double lo[3], const double hi[3], doub
 }
 
 std::size_t TriangleTree::memory_bytes() const {
-  return nodes_.capacity() * sizeof(Node) + triangles_.capacity() * sizeof(PreparedTriangle);
+  return nodes_.capacity() * sizeof(Node) + oriented_.capacity() * sizeof(OrientedNode) +
+         pairs_.capacity() * sizeof(ChildPair) +
+         triangles_.capacity() * sizeof(PreparedTriangle);
 }
 
 }  // namespace ppohdem::fast
