@@ -160,11 +160,19 @@ struct FastEngine::Impl {
   bool distributed() const { return comm->size() > 1; }
   /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
   bool kick_cached = false;
+  /// One rank: (kinetic, rotational, gravitational) energy of the state after the last step,
+  /// summed in the evaluation's pass (reduce_one_rank); invalid after a (re)load.
+  std::array<double, 3> motion_sums{};
+  bool motion_valid = false;
+  std::vector<std::array<double, 7>> block_sums;  ///< reduce_one_rank's per-block partial sums
+  std::vector<std::size_t> block_escaped;
+  std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
 
   /// Keeps the particles this rank owns (all of them on one rank).
   void load_particles(const Particles& particles) {
     auto& q = s;
     kick_cached = false;
+    motion_valid = false;
     for_each_particle_array(q, [](auto& a) { a.clear(); });
     total = particles.size();
     r_max = 0.0;
@@ -537,8 +545,17 @@ struct FastEngine::Impl {
     return all;
   }
 
-  void evaluate_forces(double history_dt) {
+  /// A force evaluation and the sums over particles. `closing_kick` (a step): the second half
+  /// kick runs between the kernel and the sums, and with one rank the kinetic, rotational and
+  /// gravitational sums of the new state come out of the same pass (cached for energies()).
+  void evaluate_forces(double history_dt, bool closing_kick = false) {
     kernel->evaluate(s, static_cast<double>(steps) * s.dt, history_dt);
+    motion_valid = false;
+    if (closing_kick) close_step();
+    if (!distributed()) {
+      reduce_one_rank(history_dt, closing_kick);
+      return;
+    }
     // What the sums need from every rank, in ONE allgather per evaluation (with several
     // ranks): counts, the deepest contact, the per-particle energy terms and the boundary
     // records. Sums in construction order: independent of the cell sort (so of restarts), of
@@ -554,14 +571,7 @@ struct FastEngine::Impl {
     PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : escaped_here) if (owned >= kParallelMin))
     for (std::size_t k = 0; k < owned; ++k) escaped_here += s.escaped_via[k] != 0 ? 1 : 0;
     std::array<double, 4> sums{};  // (elastic, dissipated, work, power) [J, J, J, W]
-    if (!distributed()) {
-      // One rank holds every particle: the sums read them in construction order directly.
-      sums = parallel_ordered_sum<4>(total, [&](std::size_t o) {
-        const std::size_t k = s.where[o];
-        return std::array{s.elastic_p[k], s.dissipated_p[k], s.work_p[k], s.power_p[k]};
-      });
-      escaped = escaped_here;
-    } else {
+    {
       terms.assign(total * 4, 0.0);
       Bytes mine;
       Packer pk(mine);
@@ -626,19 +636,10 @@ struct FastEngine::Impl {
         }
       }
     }
-    if (distributed()) {
-      sums = parallel_ordered_sum<4>(total, [&](std::size_t o) {
-        return std::array{terms[4 * o], terms[4 * o + 1], terms[4 * o + 2], terms[4 * o + 3]};
-      });
-    }
-    const auto [e, d, w, p] = sums;
-    elastic = e;
-    dissipated += d;
-    boundary_work += w;
-    // W = (P(n) + P(n+1)) dt / 2 (contact_force.hpp "Moving boundaries"); the start-up
-    // evaluation (dt = 0) records P(0).
-    boundary_work += 0.5 * (power + p) * history_dt;
-    power = p;
+    sums = parallel_ordered_sum<4>(total, [&](std::size_t o) {
+      return std::array{terms[4 * o], terms[4 * o + 1], terms[4 * o + 2], terms[4 * o + 3]};
+    });
+    add_contact_sums(sums, history_dt);
     // Boundary loads: minus the records' forces, in (construction index, boundary) order grouped
     // in the blocks of construction indices of ordered_sum.hpp (each block from zero, then the
     // blocks in order): the same bits for one rank (blocks on the threads) and several (the
@@ -649,25 +650,10 @@ struct FastEngine::Impl {
       to[boundary].force -= force;
       to[boundary].moment_about_origin += point.cross(-force);
     };
-    if (!distributed()) {
-      if (!s.records.empty()) {
-        const std::size_t count = blocks.size();
-        PPOHDEM_OMP(omp parallel for schedule(static) if (total >= kParallelMin))
-        for (std::size_t b = 0; b < count; ++b) {
-          for (std::size_t o = b * kSumBlock; o < std::min(total, (b + 1) * kSumBlock); ++o) {
-            const std::size_t k = s.where[o];
-            for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
-              add(blocks[b], s.records[r].boundary, s.records[r].force, s.records[r].point);
-            }
-          }
-        }
-      }
-    } else {
-      std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
-        return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
-      });
-      for (const Load& r : all_records) add(blocks[r.original / kSumBlock], r.boundary, r.force, r.point);
-    }
+    std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
+      return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
+    });
+    for (const Load& r : all_records) add(blocks[r.original / kSumBlock], r.boundary, r.force, r.point);
     loads.assign(nb, BoundaryLoad{});
     for (const auto& block : blocks) {
       for (std::size_t b = 0; b < nb; ++b) {
@@ -676,6 +662,99 @@ struct FastEngine::Impl {
       }
     }
     out_valid = false;
+  }
+
+  /// The contact energy terms of one evaluation added to the accumulators.
+  void add_contact_sums(const std::array<double, 4>& sums, double history_dt) {
+    const auto [e, d, w, p] = sums;
+    elastic = e;
+    dissipated += d;
+    boundary_work += w;
+    // W = (P(n) + P(n+1)) dt / 2 (contact_force.hpp "Moving boundaries"); the start-up
+    // evaluation (dt = 0) records P(0).
+    boundary_work += 0.5 * (power + p) * history_dt;
+    power = p;
+  }
+
+  /// One rank: every sum over particles in ONE pass over the blocks of construction indices of
+  /// ordered_sum.hpp (the blocks on the threads): the four contact energy terms, the escaped
+  /// count, the boundary loads (minus the records' forces, in (construction index, boundary)
+  /// order within a block) and, after a closing kick, the kinetic, rotational and
+  /// gravitational energies. Each sum is the one the separate ordered sums would give, bit for
+  /// bit (the same terms in the same order); one pass reads each particle once instead of
+  /// three or four times.
+  void reduce_one_rank(double history_dt, bool motion) {
+    const std::size_t nb = s.boundaries.size();
+    const std::size_t count = sum_blocks(total);
+    block_sums.assign(count, {});
+    block_escaped.assign(count, 0);
+    block_loads.assign(count * nb, BoundaryLoad{});
+    PPOHDEM_OMP(omp parallel for schedule(static) if (total >= kParallelMin))
+    for (std::size_t b = 0; b < count; ++b) {
+      std::array<double, 7> sum{};
+      std::size_t gone = 0;
+      BoundaryLoad* to = block_loads.data() + b * nb;
+      for (std::size_t o = b * kSumBlock; o < std::min(total, (b + 1) * kSumBlock); ++o) {
+        const std::size_t k = s.where[o];
+        sum[0] += s.elastic_p[k];
+        sum[1] += s.dissipated_p[k];
+        sum[2] += s.work_p[k];
+        sum[3] += s.power_p[k];
+        if (motion) {
+          const auto m = motion_terms(k);
+          sum[4] += m[0];
+          sum[5] += m[1];
+          sum[6] += m[2];
+        }
+        gone += s.escaped_via[k] != 0 ? 1 : 0;
+        for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
+          const BoundaryRecord& record = s.records[r];
+          to[record.boundary].force -= record.force;
+          to[record.boundary].moment_about_origin += record.point.cross(-record.force);
+        }
+      }
+      block_sums[b] = sum;
+      block_escaped[b] = gone;
+    }
+    const std::array<double, 7> sums = add_blocks(block_sums);
+    add_contact_sums({sums[0], sums[1], sums[2], sums[3]}, history_dt);
+    if (motion) {
+      motion_sums = {sums[4], sums[5], sums[6]};
+      motion_valid = true;
+    }
+    escaped = 0;
+    for (const std::size_t e : block_escaped) escaped += e;
+    loads.assign(nb, BoundaryLoad{});
+    for (std::size_t b = 0; b < count; ++b) {
+      for (std::size_t j = 0; j < nb; ++j) {
+        loads[j].force += block_loads[b * nb + j].force;
+        loads[j].moment_about_origin += block_loads[b * nb + j].moment_about_origin;
+      }
+    }
+    out_valid = false;
+  }
+
+  /// Kinetic, rotational and gravitational energy of particle k (the reference's expressions)
+  /// [J]: m |v|^2 / 2, I |w|^2 / 2, -m g . x.
+  std::array<double, 3> motion_terms(std::size_t k) const {
+    return {0.5 * s.mass[k] * s.v[k].squaredNorm(), 0.5 * s.inertia[k] * s.w[k].squaredNorm(),
+            -(s.mass[k] * s.gravity.dot(s.x[k]))};
+  }
+
+  /// The second half kick v(n+1) = v(n+1/2) + a(n+1) dt/2, kept in pv, pw for the next step's
+  /// first half kick (see step()).
+  void close_step() {
+    const double half = 0.5 * s.dt;
+    const Vec3 g = s.gravity;
+    const std::size_t owned = s.owned;  // changed if the build migrated particles
+    PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
+    for (std::size_t i = 0; i < owned; ++i) {
+      s.pv[i] = half * (s.f[i] / s.mass[i] + g);  // the closing kick, kept for the next step
+      s.pw[i] = half * s.t[i] / s.inertia[i];
+      s.v[i] += s.pv[i];
+      s.w[i] += s.pw[i];
+    }
+    kick_cached = true;
   }
 
   void step() {
@@ -707,16 +786,7 @@ struct FastEngine::Impl {
     } else {
       refresh_ghosts();
     }
-    evaluate_forces(dt);
-    const std::size_t owned = s.owned;  // changed if the build migrated particles
-    PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
-    for (std::size_t i = 0; i < owned; ++i) {
-      s.pv[i] = half * (s.f[i] / s.mass[i] + g);  // the closing kick, kept for the next step
-      s.pw[i] = half * s.t[i] / s.inertia[i];
-      s.v[i] += s.pv[i];
-      s.w[i] += s.pw[i];
-    }
-    kick_cached = true;
+    evaluate_forces(dt, /*closing_kick=*/true);
     out_valid = false;
   }
 };
@@ -828,12 +898,11 @@ Energies FastEngine::energies() const {
   const Impl& m = *impl_;
   const FastState& s = m.s;
   // The reference's expressions and its summation order (ordered_sum.hpp): the same bits.
-  auto energy_terms = [&](std::size_t i) {
-    return std::array{0.5 * s.mass[i] * s.v[i].squaredNorm(), 0.5 * s.inertia[i] * s.w[i].squaredNorm(),
-                      -(s.mass[i] * s.gravity.dot(s.x[i]))};
-  };
+  auto energy_terms = [&](std::size_t i) { return m.motion_terms(i); };
   std::array<double, 3> sums{};
-  if (!m.distributed()) {  // every particle here: construction order through `where`
+  if (!m.distributed() && m.motion_valid) {  // summed by the last step's pass
+    sums = m.motion_sums;
+  } else if (!m.distributed()) {  // every particle here: construction order through `where`
     sums = parallel_ordered_sum<3>(m.total, [&](std::size_t o) { return energy_terms(s.where[o]); });
   } else {
     const std::vector<double> terms = m.global_columns(3, [&](std::size_t i, double* t) {
