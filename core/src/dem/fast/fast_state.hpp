@@ -109,9 +109,10 @@ struct FastState {
   std::vector<std::uint32_t> partner;  ///< storage index of the partner
   // --- friction only: this side's (mirrored) tangential history of each slot that has one.
   // A slot holds a 4-byte code (kNoSpring, or pool and index), the springs themselves live in
-  // pools: pool 0 is laid out at each list build, pool 1 + t receives the contacts that OpenMP
-  // thread t sees begin between builds (only t appends to it, and only t reads the slots of its
-  // particles, so the loop needs no lock). Most slots of a Verlet list are not touching (about
+  // pools: pool 0 is laid out at each list build, pool 1 + r receives the contacts that the
+  // force loop's range r (FastState::split) sees begin between builds (only the thread running
+  // range r appends to it or reads the slots of its particles, so the loop needs no lock; the
+  // ranges move only when the pools are laid out afresh). Most slots of a Verlet list are not touching (about
   // 4 of 7 in a settled bed), so this keeps 4 instead of 104 bytes per idle slot. ---
   std::vector<std::uint32_t> spring_of;  ///< per slot: kNoSpring or (pool << pool_shift) | index
   std::vector<std::vector<TangentialSpring>> spring_pools;
