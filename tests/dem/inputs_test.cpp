@@ -1,10 +1,12 @@
 // Scene and particle-file input: the example runs, bad input is refused clearly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
 #include "dem_test_support.hpp"
+#include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
 #include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
@@ -151,6 +153,46 @@ TEST(Boundaries, ParticleLeavingTheBoxIsCountedOnce) {
   ppohdem::reference::dem::ReferenceEngine engine(s);
   engine.advance(5);
   EXPECT_EQ(engine.escaped_count(), 1u);
+}
+
+TEST(Boundaries, FastEngineSeesAWallThatWasFarAtTheListBuild) {
+  // The fast engine skips a fixed wall for a particle that was farther than R + skin from it
+  // at the last list build (near_boundaries). Particle 1 starts 20 radii above the floor and
+  // hits it (and bounces); particle 3 is thrown through it (0.6 mm per step from 10.15 mm: one
+  // step ends 0.55 mm above the plane, out of contact, the next 0.05 mm below it). Both must touch the floor at the same steps as in the reference,
+  // which checks every wall at every step, and particle 3 must be counted as escaped; particle 2
+  // rests on the floor throughout.
+  const Material m = peer_material(0.5, 0.0);
+  SimulationSetup s;
+  s.dt = 2.0e-5;
+  s.force_time_step = true;
+  s.material = m;
+  s.law = HertzMindlin::from_material(m);
+  s.gravity = Vec3(0, 0, -9.81);
+  s.particles = {sphere(1, Vec3(0, 0, 10.0e-3), Vec3(0, 0, -3.0), 0.5e-3),
+                 sphere(2, Vec3(0.01, 0, 0.499e-3), Vec3::Zero(), 0.5e-3),
+                 sphere(3, Vec3(0.02, 0, 10.15e-3), Vec3(0, 0, -30.0), 0.5e-3)};
+  s.boundaries = {std::make_shared<PlaneWall>(Vec3::Zero(), Vec3::UnitZ())};
+  ppohdem::reference::dem::ReferenceEngine reference(s);
+  ppohdem::dem::fast::FastEngine fast(s);
+  std::size_t most_touching = 0;
+  for (int step = 0; step < 400; ++step) {
+    reference.step();
+    fast.step();
+    ASSERT_EQ(fast.escaped_count(), reference.escaped_count()) << "step " << step;
+    ASSERT_EQ(fast.contact_counts().particle_boundary, reference.contact_counts().particle_boundary) << "step " << step;
+    most_touching = std::max(most_touching, fast.contact_counts().particle_boundary);
+  }
+  // Not vacuous: particle 1 touched the floor while particle 2 rested on it, particle 3 went through.
+  EXPECT_GE(most_touching, 2u);
+  EXPECT_EQ(fast.escaped_count(), 1u);
+  const Particles a = reference.particles();
+  const Particles b = fast.particles();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].position, b[i].position) << "particle " << a[i].id;
+    EXPECT_EQ(a[i].velocity, b[i].velocity) << "particle " << a[i].id;
+  }
 }
 
 }  // namespace
