@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "dem_test_support.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
@@ -139,17 +140,24 @@ TEST(SetupValidation, RejectsNegativeRadius) {
   EXPECT_NE(msg.find("radius must be > 0"), std::string::npos) << msg;
 }
 
-TEST(Boundaries, ParticleLeavingTheBoxIsCountedOnce) {
-  // A particle crossing a wall plane in one step (dt forced far above the limit).
+/// Frictionless Hertz spheres over the floor z = 0, time step `dt` [s] accepted above the
+/// stability limit (so that a particle can cross the plane within one step).
+SimulationSetup floor_scene(double dt, Particles particles) {
   const Material m = peer_material(0.5, 0.0);
   SimulationSetup s;
-  s.dt = 1.0e-3;
+  s.dt = dt;
   s.force_time_step = true;
   s.material = m;
   s.law = HertzMindlin::from_material(m);
-  s.particles = {sphere(1, Vec3(0, 0, 0.6e-3), Vec3(0, 0, -10.0), 0.5e-3),
-                 sphere(2, Vec3(0.01, 0, 0.6e-3), Vec3::Zero(), 0.5e-3)};
+  s.particles = std::move(particles);
   s.boundaries = {std::make_shared<PlaneWall>(Vec3::Zero(), Vec3::UnitZ())};
+  return s;
+}
+
+TEST(Boundaries, ParticleLeavingTheBoxIsCountedOnce) {
+  // A particle crossing a wall plane in one step (dt forced far above the limit).
+  const SimulationSetup s = floor_scene(1.0e-3, {sphere(1, Vec3(0, 0, 0.6e-3), Vec3(0, 0, -10.0), 0.5e-3),
+                                                 sphere(2, Vec3(0.01, 0, 0.6e-3), Vec3::Zero(), 0.5e-3)});
   ppohdem::reference::dem::ReferenceEngine engine(s);
   engine.advance(5);
   EXPECT_EQ(engine.escaped_count(), 1u);
@@ -159,20 +167,13 @@ TEST(Boundaries, FastEngineSeesAWallThatWasFarAtTheListBuild) {
   // The fast engine skips a fixed wall for a particle that was farther than R + skin from it
   // at the last list build (near_boundaries). Particle 1 starts 20 radii above the floor and
   // hits it (and bounces); particle 3 is thrown through it (0.6 mm per step from 10.15 mm: one
-  // step ends 0.55 mm above the plane, out of contact, the next 0.05 mm below it). Both must touch the floor at the same steps as in the reference,
-  // which checks every wall at every step, and particle 3 must be counted as escaped; particle 2
-  // rests on the floor throughout.
-  const Material m = peer_material(0.5, 0.0);
-  SimulationSetup s;
-  s.dt = 2.0e-5;
-  s.force_time_step = true;
-  s.material = m;
-  s.law = HertzMindlin::from_material(m);
+  // step ends 0.55 mm above the plane, out of contact, the next 0.05 mm below it). Both must
+  // touch the floor at the same steps as in the reference, which checks every wall at every
+  // step, and particle 3 must be counted as escaped; particle 2 rests on the floor throughout.
+  SimulationSetup s = floor_scene(2.0e-5, {sphere(1, Vec3(0, 0, 10.0e-3), Vec3(0, 0, -3.0), 0.5e-3),
+                                           sphere(2, Vec3(0.01, 0, 0.499e-3), Vec3::Zero(), 0.5e-3),
+                                           sphere(3, Vec3(0.02, 0, 10.15e-3), Vec3(0, 0, -30.0), 0.5e-3)});
   s.gravity = Vec3(0, 0, -9.81);
-  s.particles = {sphere(1, Vec3(0, 0, 10.0e-3), Vec3(0, 0, -3.0), 0.5e-3),
-                 sphere(2, Vec3(0.01, 0, 0.499e-3), Vec3::Zero(), 0.5e-3),
-                 sphere(3, Vec3(0.02, 0, 10.15e-3), Vec3(0, 0, -30.0), 0.5e-3)};
-  s.boundaries = {std::make_shared<PlaneWall>(Vec3::Zero(), Vec3::UnitZ())};
   ppohdem::reference::dem::ReferenceEngine reference(s);
   ppohdem::dem::fast::FastEngine fast(s);
   std::size_t most_touching = 0;
