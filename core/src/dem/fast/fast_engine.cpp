@@ -645,23 +645,32 @@ struct FastEngine::Impl {
     // blocks in order): the same bits for one rank (blocks on the threads) and several (the
     // gathered records sorted).
     const std::size_t nb = s.boundaries.size();
-    std::vector<std::vector<BoundaryLoad>> blocks(sum_blocks(total), std::vector<BoundaryLoad>(nb));
-    auto add = [](std::vector<BoundaryLoad>& to, std::uint32_t boundary, const Vec3& force, const Vec3& point) {
-      to[boundary].force -= force;
-      to[boundary].moment_about_origin += point.cross(-force);
-    };
+    block_loads.assign(sum_blocks(total) * nb, BoundaryLoad{});
     std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
       return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
     });
-    for (const Load& r : all_records) add(blocks[r.original / kSumBlock], r.boundary, r.force, r.point);
+    for (const Load& r : all_records) add_load(block_loads.data() + r.original / kSumBlock * nb, r.boundary, r.force, r.point);
+    add_block_loads();
+    out_valid = false;
+  }
+
+  /// A record's load on its boundary: minus the contact force on the particle, its moment
+  /// about the origin [N, N m].
+  static void add_load(BoundaryLoad* block, std::uint32_t boundary, const Vec3& force, const Vec3& point) {
+    block[boundary].force -= force;
+    block[boundary].moment_about_origin += point.cross(-force);
+  }
+
+  /// loads = the blocks' loads (block_loads, blocks x boundaries) added in block order from zero.
+  void add_block_loads() {
+    const std::size_t nb = s.boundaries.size();
     loads.assign(nb, BoundaryLoad{});
-    for (const auto& block : blocks) {
-      for (std::size_t b = 0; b < nb; ++b) {
-        loads[b].force += block[b].force;
-        loads[b].moment_about_origin += block[b].moment_about_origin;
+    for (std::size_t first = 0; first < block_loads.size(); first += nb) {
+      for (std::size_t j = 0; j < nb; ++j) {
+        loads[j].force += block_loads[first + j].force;
+        loads[j].moment_about_origin += block_loads[first + j].moment_about_origin;
       }
     }
-    out_valid = false;
   }
 
   /// The contact energy terms of one evaluation added to the accumulators.
@@ -708,9 +717,7 @@ struct FastEngine::Impl {
         }
         gone += s.escaped_via[k] != 0 ? 1 : 0;
         for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
-          const BoundaryRecord& record = s.records[r];
-          to[record.boundary].force -= record.force;
-          to[record.boundary].moment_about_origin += record.point.cross(-record.force);
+          add_load(to, s.records[r].boundary, s.records[r].force, s.records[r].point);
         }
       }
       block_sums[b] = sum;
@@ -724,13 +731,7 @@ struct FastEngine::Impl {
     }
     escaped = 0;
     for (const std::size_t e : block_escaped) escaped += e;
-    loads.assign(nb, BoundaryLoad{});
-    for (std::size_t b = 0; b < count; ++b) {
-      for (std::size_t j = 0; j < nb; ++j) {
-        loads[j].force += block_loads[b * nb + j].force;
-        loads[j].moment_about_origin += block_loads[b * nb + j].moment_about_origin;
-      }
-    }
+    add_block_loads();
     out_valid = false;
   }
 
