@@ -34,15 +34,6 @@ void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
   a.swap(b);
 }
 
-TangentialSpring mirrored(const TangentialSpring& s) {
-  TangentialSpring m;
-  m.displacement = -s.displacement;
-  m.stiffness = s.stiffness;
-  m.branch_i = s.branch_j;
-  m.branch_j = s.branch_i;
-  return m;
-}
-
 /// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
 /// ordered_sum.hpp's sum of term(0) .. term(n-1) with its blocks summed on the OpenMP threads:
 /// the same bits as the serial ordered_sum for any thread count.
@@ -206,8 +197,10 @@ struct FastEngine::Impl {
     q.owned = n;
     q.first.assign(n + 1, 0);
     q.partner.clear();
+    q.mirror.clear();
     q.spring_of.clear();
     q.spring_pools.clear();
+    q.result_pools.clear();
     q.records.clear();
     q.record_first.assign(n + 1, 0);
     q.split_stale = true;
@@ -223,9 +216,14 @@ struct FastEngine::Impl {
     for (std::size_t k = 0; k < n; ++k) {
       if (s.friction && s.first.size() == n + 1) {
         for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
-          if (s.spring_of[slot] == kNoSpring || !keeps_history(s.spring_at(s.spring_of[slot]))) continue;
-          h.partner_id.push_back(s.id[s.partner[slot]]);
-          h.spring.push_back(s.spring_at(s.spring_of[slot]));
+          // A pair of owned particles keeps its history on the lower-id side only (the
+          // kernel evaluates it there): this side's is its mirror.
+          const std::uint32_t j = s.partner[slot];
+          const bool other_side = j < n && s.id[j] < s.id[k];
+          const std::uint32_t code = other_side ? s.spring_of[s.mirror[slot]] : s.spring_of[slot];
+          if (code == kNoSpring || !keeps_history(s.spring_at(code))) continue;
+          h.partner_id.push_back(s.id[j]);
+          h.spring.push_back(other_side ? mirrored(s.spring_at(code)) : s.spring_at(code));
         }
       }
       h.first.push_back(static_cast<std::uint32_t>(h.partner_id.size()));
@@ -396,6 +394,7 @@ struct FastEngine::Impl {
     if (n == 0) {
       s.first.swap(first);
       s.partner.clear();
+      s.mirror.clear();
       return;
     }
     const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
@@ -450,6 +449,27 @@ struct FastEngine::Impl {
     }
     s.first.swap(first);
     s.partner.swap(partner);
+    link_mirrors();
+  }
+
+  /// FastState::mirror: for each slot of an owned partner j, the slot of this particle in j's
+  /// list (the lists are symmetric between owned particles: the same reach and distance
+  /// decide both; each list is sorted by id, so a binary search finds it).
+  void link_mirrors() {
+    const std::size_t n = s.owned;
+    s.mirror.assign(s.partner.size(), kNoMirror);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
+        const std::uint32_t j = s.partner[slot];
+        if (j >= n) continue;
+        const auto begin = s.partner.begin() + s.first[j];
+        const auto end = s.partner.begin() + s.first[j + 1];
+        const auto it = std::lower_bound(begin, end, s.id[i], [&](std::uint32_t k, std::int64_t id) { return s.id[k] < id; });
+        if (it == end || *it != i) throw std::logic_error("fast engine: neighbour lists are not symmetric");
+        s.mirror[slot] = static_cast<std::uint32_t>(it - s.partner.begin());
+      }
+    }
   }
 
   /// Pair histories by partner id (both ranges ascending in id: a merge); boundary records
@@ -467,6 +487,11 @@ struct FastEngine::Impl {
           const std::int64_t want = s.id[s.partner[b]];
           for (; a < a_end && h.partner_id[a] < want; ++a) lost(h.spring[a], k, h.partner_id[a]);
           if (a < a_end && h.partner_id[a] == want) {
+            // An owned lower-id partner keeps the pair's history (its mirror is this one).
+            if (s.partner[b] < n && want < s.id[k]) {
+              ++a;
+              continue;
+            }
             s.spring_of[b] = s.new_spring(0);
             s.spring_at(s.spring_of[b]) = h.spring[a++];
           }
@@ -943,8 +968,9 @@ std::size_t FastEngine::neighbour_slots() const { return impl_->s.partner.size()
 
 std::size_t FastEngine::memory_bytes() const {
   const FastState& s = impl_->s;
-  std::size_t pool_bytes = bytes(s.spring_pools);
+  std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror);
   for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
+  for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.elastic_p) + bytes(s.dissipated_p) + bytes(s.work_p) + bytes(s.power_p) + bytes(s.first) +
@@ -1100,6 +1126,7 @@ void FastEngine::restore_state(const EngineState& state) {
         misplaced = true;
         return;
       }
+      if (*it < s.owned && other_id < self_id) return;  // kept by the owned lower-id side
       std::uint32_t& code = s.spring_of[static_cast<std::size_t>(it - s.partner.begin())];
       if (code == kNoSpring) code = s.new_spring(0);
       s.spring_at(code) = spring;

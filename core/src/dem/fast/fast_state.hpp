@@ -71,6 +71,25 @@ inline void keep_deeper(std::optional<LargestOverlap>& deepest, const LargestOve
   }
 }
 
+/// One particle pair's contact as evaluated by its lower-id side in a frictional force pass
+/// (force_kernel.cpp, "Each pair once"): what both particles add to their sums.
+struct PairResult {
+  Vec3 force = Vec3::Zero();     ///< on the evaluating particle i [N]; j receives -force
+  Vec3 torque_i = Vec3::Zero();  ///< r_i x force, torque on i [N m]
+  Vec3 torque_j = Vec3::Zero();  ///< r_j x force; j receives -torque_j (= its r x (-force)) [N m]
+};
+
+/// The other side's view of a pair history: bitwise what the partner's own evaluation stores
+/// (the update is odd in the normal and the displacements, even in the scalars).
+inline TangentialSpring mirrored(const TangentialSpring& s) {
+  TangentialSpring m;
+  m.displacement = -s.displacement;
+  m.stiffness = s.stiffness;
+  m.branch_i = s.branch_j;
+  m.branch_j = s.branch_i;
+  return m;
+}
+
 /// A planar wall, evaluated inline with PlaneWall's formulas (core/src/dem/plane_wall.cpp).
 struct WallData {
   Vec3 point0 = Vec3::Zero();    ///< point at t = 0 [m]
@@ -107,7 +126,12 @@ struct FastState {
   // partners may be ghosts ---
   std::vector<std::uint32_t> first;    ///< n + 1 offsets
   std::vector<std::uint32_t> partner;  ///< storage index of the partner
-  // --- friction only: this side's (mirrored) tangential history of each slot that has one.
+  /// Per slot of an owned partner j: the slot of this particle in j's list (kNoMirror for a
+  /// ghost partner). Frictional kernels evaluate a pair of owned particles once, on its
+  /// lower-id side, which also keeps the other side's history through this link.
+  std::vector<std::uint32_t> mirror;
+  // --- friction only: the tangential history of each slot that has one; for a partner that is
+  // owned too, only the lower-id side's slot has it (the other side's code stays kNoSpring).
   // A slot holds a 4-byte code (kNoSpring, or pool and index), the springs themselves live in
   // pools: pool 0 is laid out at each list build, pool 1 + r receives the contacts that the
   // force loop's range r (FastState::split) sees begin between builds (only the thread running
@@ -129,6 +153,16 @@ struct FastState {
     auto& springs = spring_pools[pool];
     springs.emplace_back();
     return static_cast<std::uint32_t>((pool << pool_shift) | (springs.size() - 1));
+  }
+  /// The last evaluation's result of the pair whose evaluating side holds spring `code`: laid
+  /// out like spring_pools (result_pools[p][k] belongs to spring_pools[p][k]), kept as long
+  /// as the pools by the kernel, valid only for the slots it evaluated in its last pass.
+  std::vector<std::vector<PairResult>> result_pools;
+  PairResult& result_at(std::uint32_t code) {
+    return result_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
+  }
+  const PairResult& result_at(std::uint32_t code) const {
+    return result_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
   }
   // --- boundary contacts of the last evaluation, sorted by (particle, boundary) ---
   std::vector<BoundaryRecord> records;
@@ -156,6 +190,7 @@ struct FastState {
 
 inline constexpr std::uint32_t kNotHere = 0xffffffffu;  ///< `where` of a particle owned elsewhere
 inline constexpr std::uint32_t kNoSpring = 0xffffffffu;  ///< spring_of of a slot without history
+inline constexpr std::uint32_t kNoMirror = 0xffffffffu;  ///< mirror of a slot whose partner is a ghost
 
 /// Threads of the force kernel for `owned` particles (one below kParallelMin).
 inline int kernel_threads(std::size_t owned) { return owned >= kParallelMin ? max_threads() : 1; }
@@ -175,6 +210,12 @@ inline void balance_split(FastState& s, int threads) {
     if (s.first.size() == n + 1) {
       for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
+        // With friction a pair of owned particles is evaluated on its lower-id side only; the
+        // other side skips the slot and later adds the result (about the cost of a slot).
+        if (s.friction && j < n && s.id[j] < s.id[i]) {
+          work += 1;
+          continue;
+        }
         const double reach = s.radius[i] + s.radius[j];
         work += (s.x[i] - s.x[j]).squaredNorm() < reach * reach ? 16 : 1;
       }

@@ -12,12 +12,17 @@
 ///     need no atomics; rebuilt when the largest displacement since the last build exceeds
 ///     half the skin (the seed's pos_accum); cells of side >= 2 R_max + skin;
 ///   - each particle sums its contact forces in ascending order of the partner's id, which is
-///     the order in which the reference (pairs sorted by (id_i, id_j), Newton 3) adds them,
-///     and computes each contact from its own side, which is bitwise the negation of the
-///     other side (IEEE negation is exact; tests/dem invariants ContactForce.IsEqualAndOpposite):
-///     so forces, torques and trajectories equal the reference's bit for bit;
-///   - the contact history of a pair is kept twice (once per side, mirrored), keyed by the
-///     partner's global id and carried over by id when the list is rebuilt;
+///     the order in which the reference (pairs sorted by (id_i, id_j), Newton 3) adds them.
+///     Without friction each particle computes each contact from its own side, which is
+///     bitwise the negation of the other side (IEEE negation is exact; tests/dem invariants
+///     ContactForce.IsEqualAndOpposite). With friction a pair of particles owned by the same
+///     rank is evaluated once, by its lower-id side (as the reference), which stores the
+///     force and both torques; a second pass after a barrier adds them to both particles in
+///     partner-id order (the other side adds the exact negations). Either way forces, torques
+///     and trajectories equal the reference's bit for bit;
+///   - the contact history of a pair is kept by its lower-id side (a ghost's pair by both
+///     ranks, mirrored), keyed by the partner's global id and carried over by id when the list
+///     is rebuilt (the higher-id side's is the exact mirror, derived when needed);
 ///   - energies, counts and boundary loads are summed per particle and then over particles in
 ///     the blocked construction order of ppohdem/dem/ordered_sum.hpp (blocks of 1024 summed on
 ///     the threads, then the block sums in order; histories dropped at a list build: by
