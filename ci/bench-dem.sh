@@ -8,8 +8,14 @@
 #   bash ci/bench-dem.sh [--quick] [--build-dir DIR] [--out DIR] [--codes "ours liggghts lammps yade"]
 #                        [--sizes "N:STEPS ..."]
 #
-#   --quick   10,000 particles, 1,000 steps (CI; < 10 min on the 2-core VM)
-#   default   10,000 particles x 2,000 steps and 100,000 particles x 300 steps (< 30 min)
+#   --quick   10,000 particles x 10,000 steps only (< 20 min on the 2-core VM)
+#   default   10,000 particles x 10,000 steps and 100,000 particles x 300 steps (< 30 min)
+# The 10,000-step run is the settling bed the issue's peer figures describe (LIGGGHTS 6.8e6
+# particle-steps/s here against the issue's 6.9e6): the bed falls onto the floor and settles
+# (about 4.3 contacts per particle at the end). The first ~1,500 steps are a free fall with
+# almost no contacts, so shorter runs (e.g. --sizes "10000:1000") measure the neighbour list
+# and integration, not the contact law; docs/performance.md reports both. The 100,000 x 300
+# run (free fall) gives the memory per particle and the scaling with N.
 # Peers missing from PATH are skipped (install: apt-get install liggghts lammps yade).
 #
 # Per run it prints: particle-steps per second (time loop only: LAMMPS/LIGGGHTS "Loop time",
@@ -65,7 +71,7 @@ if [[ " $CODES " == *" ours "* ]]; then
   done
 fi
 
-if [ "$QUICK" -eq 1 ]; then SIZES=("10000:1000"); else SIZES=("10000:2000" "100000:300"); fi
+if [ "$QUICK" -eq 1 ]; then SIZES=("10000:10000"); else SIZES=("10000:10000" "100000:300"); fi
 if [ -n "$SIZES_ARG" ]; then read -r -a SIZES <<<"$SIZES_ARG"; fi
 RESULTS="$OUT/results.tsv"
 printf 'code\tN\tcores\tsteps\tloop_s\tpsteps_per_s\tcpu_psteps_per_s\tpeak_rss_MB\tbytes_per_particle\tcrosscheck\n' >"$RESULTS"
