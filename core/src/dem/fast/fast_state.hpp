@@ -59,6 +59,10 @@ struct ThreadOutput {
   std::vector<std::uint32_t> newly_escaped;  ///< storage indices
   std::optional<LargestOverlap> deepest;     ///< of this thread's contacts
   std::size_t base = 0;                      ///< offset of `records` in the merged records
+  /// Spring codes of this range's contacts that ended since the pools were laid out: reused
+  /// for its next new contacts, so a bed whose contacts open and close between list builds
+  /// does not grow its pools (friction only; emptied by lay_out_springs).
+  std::vector<std::uint32_t> free_springs;
 };
 
 /// Deterministic choice of the deeper contact: larger ratio, ties to the smaller
@@ -256,6 +260,7 @@ inline void lay_out_springs(FastState& s, int threads) {
     }
   }
   s.spring_pools.assign(static_cast<std::size_t>(threads) + 1, {});
+  for (ThreadOutput& range : s.threads) range.free_springs.clear();
   s.spring_pools[0] = std::move(packed);
   s.spring_of = std::move(codes);
   s.pool_shift = shift;

@@ -97,8 +97,17 @@ class Kernel final : public ForceKernel {
         if (s.result_pools[pool].size() < s.spring_pools[pool].size()) s.result_pools[pool].resize(s.spring_pools[pool].size());
       }
     }
-    // A new spring in this range's pool, with its result slot.
-    [[maybe_unused]] auto new_spring_with_result = [&s](std::size_t pool) {
+    // A new empty spring for range `range`: one its ended contacts freed, else a new one in its
+    // pool (with its result slot).
+    [[maybe_unused]] auto new_spring_with_result = [&s](std::size_t range) {
+      std::vector<std::uint32_t>& free = s.threads[range].free_springs;
+      if (!free.empty()) {
+        const std::uint32_t code = free.back();
+        free.pop_back();
+        s.spring_at(code) = TangentialSpring{};
+        return code;
+      }
+      const std::size_t pool = 1 + range;
       const std::uint32_t code = s.new_spring(pool);
       if (s.result_pools[pool].size() < s.spring_pools[pool].size()) s.result_pools[pool].resize(s.spring_pools[pool].capacity());
       return code;
@@ -132,6 +141,7 @@ class Kernel final : public ForceKernel {
               if (code != kNoSpring) {  // the contact ended: its stored energy is lost
                 const TangentialSpring& sp = s.spring_at(code);
                 if (has_history(sp) && idi < s.id[j]) dissipated += sp.stored_energy();
+                out.free_springs.push_back(code);
                 code = kNoSpring;
               }
             }
@@ -150,7 +160,7 @@ class Kernel final : public ForceKernel {
           ContactForce f;
           if constexpr (kFriction) {
             std::uint32_t& code = s.spring_of[slot];
-            if (code == kNoSpring) code = new_spring_with_result(my_pool);  // a new contact: empty history
+            if (code == kNoSpring) code = new_spring_with_result(range);  // a new contact: empty history
             TangentialSpring& sp = s.spring_at(code);
             k.relative_displacement_previous_arms =
                 dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
