@@ -454,9 +454,14 @@ struct FastEngine::Impl {
 
   /// FastState::mirror: for each slot of an owned partner j, the slot of this particle in j's
   /// list (the lists are symmetric between owned particles: the same reach and distance
-  /// decide both; each list is sorted by id, so a binary search finds it).
+  /// decide both; each list is sorted by id, so a binary search finds it). Frictional scenes
+  /// only: without history every contact is evaluated from both sides.
   void link_mirrors() {
     const std::size_t n = s.owned;
+    if (!s.friction) {
+      s.mirror.clear();
+      return;
+    }
     s.mirror.assign(s.partner.size(), kNoMirror);
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t i = 0; i < n; ++i) {
