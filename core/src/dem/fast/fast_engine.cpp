@@ -198,6 +198,7 @@ struct FastEngine::Impl {
     q.first.assign(n + 1, 0);
     q.partner.clear();
     q.mirror.clear();
+    q.upper_first.clear();
     q.spring_of.clear();
     q.spring_pools.clear();
     q.result_pools.clear();
@@ -395,6 +396,7 @@ struct FastEngine::Impl {
       s.first.swap(first);
       s.partner.clear();
       s.mirror.clear();
+      s.upper_first.clear();
       return;
     }
     const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
@@ -454,17 +456,23 @@ struct FastEngine::Impl {
 
   /// FastState::mirror: for each slot of an owned partner j, the slot of this particle in j's
   /// list (the lists are symmetric between owned particles: the same reach and distance
-  /// decide both; each list is sorted by id, so a binary search finds it). Frictional scenes
-  /// only: without history every contact is evaluated from both sides.
+  /// decide both; each list is sorted by id, so a binary search finds it), and
+  /// FastState::upper_first. Frictional scenes only: without history every contact is
+  /// evaluated from both sides.
   void link_mirrors() {
     const std::size_t n = s.owned;
     if (!s.friction) {
       s.mirror.clear();
+      s.upper_first.clear();
       return;
     }
     s.mirror.assign(s.partner.size(), kNoMirror);
+    s.upper_first.assign(n, 0);
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t i = 0; i < n; ++i) {
+      const auto upper = std::partition_point(s.partner.begin() + s.first[i], s.partner.begin() + s.first[i + 1],
+                                              [&](std::uint32_t k) { return s.id[k] < s.id[i]; });
+      s.upper_first[i] = static_cast<std::uint32_t>(upper - s.partner.begin());
       for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
         if (j >= n) continue;
@@ -973,7 +981,7 @@ std::size_t FastEngine::neighbour_slots() const { return impl_->s.partner.size()
 
 std::size_t FastEngine::memory_bytes() const {
   const FastState& s = impl_->s;
-  std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror);
+  std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror) + bytes(s.upper_first);
   for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
   for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
