@@ -22,6 +22,7 @@
 // evaluating every pair twice (a scattered 104-byte write per contact).
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cstdio>
 #include <stdexcept>
 #include <type_traits>
@@ -82,8 +83,9 @@ class Kernel final : public ForceKernel {
         if (s.is_wall[b]) s.walls[b].point = s.walls[b].point0 + s.walls[b].velocity * time;  // PlaneWall::point_at
       }
     }
-    // One range of particles per thread, balanced by estimated work (balance_split), so a
-    // bed whose contacts sit in one part of the cell order does not idle a thread. Range r
+    // One range of particles per thread, balanced by estimated work corrected by the ranges'
+    // measured times (balance_split), so a bed whose contacts sit in one part of the cell
+    // order does not idle a thread. Range r
     // appends its new springs to pool 1 + r only; ranges move only when the pools are laid
     // out afresh, so no two threads ever touch the same pool.
     const int threads = kernel_threads(n);
@@ -139,6 +141,7 @@ class Kernel final : public ForceKernel {
       out.records.clear();
       out.newly_escaped.clear();
       out.deepest.reset();
+      const auto started = std::chrono::steady_clock::now();  // for balance_split
       for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) {
         Vec3 force = Vec3::Zero();
         Vec3 torque = Vec3::Zero();
@@ -322,6 +325,7 @@ class Kernel final : public ForceKernel {
         s.power_p[i] = power;
         if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
       }
+      s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     }
     // The new boundary records: the ranges' blocks in range order are in storage order. Each
     // range copies its block and offsets its particles' counts, in parallel.
@@ -348,6 +352,7 @@ class Kernel final : public ForceKernel {
     if constexpr (kHalf) {
       PPOHDEM_OMP(omp for schedule(static, 1))
       for (std::size_t range = 0; range < ranges; ++range) {
+        const auto started = std::chrono::steady_clock::now();
         for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) {
           Vec3 force = Vec3::Zero();
           Vec3 torque = Vec3::Zero();
@@ -381,6 +386,7 @@ class Kernel final : public ForceKernel {
           s.f[i] = force;
           s.t[i] = torque;
         }
+        s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       }
     }
     }
