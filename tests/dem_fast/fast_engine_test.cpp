@@ -15,6 +15,7 @@
 #include "ppohdem/dem/ordered_sum.hpp"
 #include "ppohdem/dem/particle_generator.hpp"
 #include "ppohdem/reference/dem/reference_engine.hpp"
+#include "../../core/src/dem/fast/fast_state.hpp"  // balance_split (internal)
 
 #ifdef PPOHDEM_WITH_OPENMP
 #include <omp.h>
@@ -184,6 +185,35 @@ INSTANTIATE_TEST_SUITE_P(Scenes, FastAgainstReference,
                              default: return std::string("HertzFrictionlessFree");
                            }
                          });
+
+// The kernel's thread ranges: cut by estimated work, then corrected by the ranges' measured
+// times. Without neighbour lists every particle weighs the same (8), so the cuts are exact
+// fractions of n: even at first; with range 0 measured twice as slow as range 1, the shares
+// that would have equalised the times are (1/3, 2/3) and the damped new shares half-way
+// there, (5/12, 7/12); a range that stays far slower is held at 1/2 of an even share.
+TEST(FastEngine, ThreadRangesFollowTheMeasuredTimes) {
+  fast::FastState s;
+  s.owned = 1200;
+  fast::balance_split(s, 2);
+  EXPECT_EQ(s.split, (std::vector<std::size_t>{0, 600, 1200}));
+  s.range_seconds = {1.0, 1.0};  // balanced: the cut stays
+  fast::balance_split(s, 2);
+  EXPECT_EQ(s.split[1], 600u);
+  s.range_seconds = {2.0, 1.0};
+  fast::balance_split(s, 2);
+  EXPECT_EQ(s.split[1], 500u);  // 1200 * 5/12
+  EXPECT_NEAR(s.range_share[0], 5.0 / 12.0, 1e-15);
+  EXPECT_EQ(s.range_seconds, (std::vector<double>{0.0, 0.0}));  // a new interval
+  fast::balance_split(s, 2);  // no times measured: the even cut again
+  EXPECT_EQ(s.split[1], 600u);
+  s.range_seconds = {1000.0, 1.0};  // half-way towards ~0: a share just above 1/4
+  fast::balance_split(s, 2);
+  EXPECT_GT(s.range_share[0], 0.25);
+  EXPECT_LT(s.range_share[0], 0.251);
+  s.range_seconds = {1000.0, 1.0};  // again: held at the floor 1/4 (1/2 of an even share)
+  fast::balance_split(s, 2);
+  EXPECT_EQ(s.split[1], 300u);
+}
 
 TEST(FastEngine, FinalStateIsBitwiseTheSameForOneAndTwoThreads) {
 #ifndef PPOHDEM_WITH_OPENMP
