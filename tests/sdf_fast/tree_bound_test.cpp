@@ -64,6 +64,33 @@ void expect_bound_below_brute_force(const char* name, double offset, double min_
     ASSERT_EQ(tree.nearest(p).squared_distance, all) << name;
     ASSERT_EQ(tree.nearest(p, pick(rng)).squared_distance, all) << name;
     ASSERT_EQ(aligned_tree.nearest(p, pick(rng)).squared_distance, all) << name;
+    // Packets (TriangleTree::nearest_packet): 2 x 2 neighbours of p (as the grid rows are
+    // queried) and, in the packets of 3 and 4, one point anywhere (paths that part early); each
+    // point's result must be its brute-force minimum and the lowest index among equally near
+    // triangles (the tie rule of every traversal), with AVX and with SSE2, whatever the hints.
+    const double step = 0.02 * half.norm();
+    const Vec3 points[4] = {p, p + Vec3(0.0, step, 0.0), p + Vec3(0.0, 0.0, step),
+                            centre + Vec3(unit(rng) * half.x(), unit(rng) * half.y(), unit(rng) * half.z())};
+    std::pair<double, std::uint32_t> expected[4];
+    for (int c = 0; c < 4; ++c) {
+      expected[c] = {std::numeric_limits<double>::infinity(), 0};
+      for (std::uint32_t s = 0; s < triangles.size(); ++s) {
+        const double d2 = fast::squared_distance(points[c], triangles[s]);
+        if (d2 < expected[c].first) expected[c] = {d2, s};
+      }
+    }
+    for (int count = 1; count <= fast::TriangleTree::kPacket; ++count) {
+      for (const bool avx : {true, false}) {
+        std::int64_t hints[4];
+        for (std::int64_t& h : hints) h = q % 3 == 0 ? -1 : static_cast<std::int64_t>(pick(rng));
+        fast::TriangleTree::Nearest found[4];
+        tree.nearest_packet(points, hints, count, found, avx);
+        for (int c = 0; c < count; ++c) {
+          ASSERT_EQ(found[c].squared_distance, expected[c].first) << name << " packet " << count << " point " << c;
+          ASSERT_EQ(found[c].triangle, expected[c].second) << name << " packet " << count << " point " << c;
+        }
+      }
+    }
     for (std::uint32_t id = 0; id < nodes.size(); ++id) {
       const auto [first, end] = subtree_range(tree, id);
       double brute = std::numeric_limits<double>::infinity();

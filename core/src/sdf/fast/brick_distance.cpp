@@ -651,17 +651,34 @@ void BrickDistance::solve_box(const NodeBox& box, int depth, const Workspace::Ca
     const NodeBox nodes = box.intersect(ws.clip);
     const NodeBox& b = ws.brick;
     const int ex = b.extent(0), ey = b.extent(1);
-    // Each row starts from the previous row's first node (a neighbour), not from its last.
+    // Each row starts from the previous row's first node (a neighbour), not from its last; then
+    // each node from the previous node of its row. The rows are queried in 2 x 2 blocks (j, k),
+    // one packet per x (TriangleTree::nearest_packet(): the same results as one query per node).
     std::int64_t row_hint = centre.triangle;
-    for (int k = nodes.lo[2]; k < nodes.hi[2]; ++k) {
-      for (int j = nodes.lo[1]; j < nodes.hi[1]; ++j) {
-        std::int64_t hint = row_hint;
+    constexpr int kPacket = TriangleTree::kPacket;
+    static_assert(kPacket == 4, "2 x 2 rows per packet");
+    Vec3 points[kPacket];
+    std::int64_t hints[kPacket];
+    int rj[kPacket], rk[kPacket];
+    TriangleTree::Nearest found[kPacket];
+    for (int k0 = nodes.lo[2]; k0 < nodes.hi[2]; k0 += 2) {
+      for (int j0 = nodes.lo[1]; j0 < nodes.hi[1]; j0 += 2) {
+        int count = 0;
+        for (int dk = 0; dk < 2 && k0 + dk < nodes.hi[2]; ++dk) {
+          for (int dj = 0; dj < 2 && j0 + dj < nodes.hi[1]; ++dj) {
+            rj[count] = j0 + dj, rk[count] = k0 + dk, hints[count] = row_hint;
+            ++count;
+          }
+        }
         for (int i = nodes.lo[0]; i < nodes.hi[0]; ++i) {
-          const TriangleTree::Nearest nearest = tree_.nearest(grid_.position(i, j, k), hint);
-          hint = nearest.triangle;
-          if (i == nodes.lo[0]) row_hint = hint;
-          d2[static_cast<std::size_t>(((k - b.lo[2]) * ey + (j - b.lo[1])) * ex + (i - b.lo[0]))] =
-              nearest.squared_distance;
+          for (int c = 0; c < count; ++c) points[c] = grid_.position(i, rj[c], rk[c]);
+          tree_.nearest_packet(points, hints, count, found);
+          for (int c = 0; c < count; ++c) {
+            hints[c] = found[c].triangle;
+            d2[static_cast<std::size_t>(((rk[c] - b.lo[2]) * ey + (rj[c] - b.lo[1])) * ex + (i - b.lo[0]))] =
+                found[c].squared_distance;
+          }
+          if (i == nodes.lo[0]) row_hint = found[0].triangle;
         }
       }
     }

@@ -10,6 +10,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define PPOHDEM_PACKET_AVX 1  // the AVX variant of the 4-point traversal, chosen at run time
+#endif
 
 namespace ppohdem::fast {
 
@@ -555,7 +559,225 @@ void refine_nodes(const NodeT* nodes, const TriangleTree::ChildPair* pairs,
   }
 }
 
+/// The children's bounds of K points: each point's child_bounds() (SSE2 or scalar).
+template <int K>
+struct PacketBounds {
+  [[gnu::always_inline]] static inline void get(const TriangleTree::ChildPair& pair, const double* px,
+                                                const double* py, const double* pz, double* dl, double* dr) {
+    for (int c = 0; c < K; ++c) child_bounds(pair, px[c], py[c], pz[c], dl[c], dr[c]);
+  }
+  /// Bit c: point c's distance to the triangle's box is <= prune[c].
+  [[gnu::always_inline]] static inline unsigned near_box(const PreparedTriangle& t, const double* px,
+                                                         const double* py, const double* pz, const double* prune) {
+    unsigned mask = 0;
+    for (int c = 0; c < K; ++c) {
+      mask |= static_cast<unsigned>(point_box_squared(t.lo, t.hi, px[c], py[c], pz[c]) <= prune[c]) << c;
+    }
+    return mask;
+  }
+};
+
+#if defined(PPOHDEM_PACKET_AVX)
+/// Four points' children's bounds in two passes of AVX, lanes (point, child) = (0 l, 0 r, 1 l, 1 r)
+/// and (2 l, ..., 3 r): the same operations as child_bounds() per lane (no FMA).
+struct PacketBoundsAvx {
+  __attribute__((target("avx"))) static inline void get(const TriangleTree::ChildPair& pair, const double* px,
+                                                        const double* py, const double* pz, double* dl,
+                                                        double* dr) {
+    const __m256d zero = _mm256_setzero_pd();
+    for (int h = 0; h < 4; h += 2) {
+      const __m256d x = _mm256_set_pd(px[h + 1], px[h + 1], px[h], px[h]);
+      const __m256d y = _mm256_set_pd(py[h + 1], py[h + 1], py[h], py[h]);
+      const __m256d z = _mm256_set_pd(pz[h + 1], pz[h + 1], pz[h], pz[h]);
+      __m256d sum = zero;
+      for (int r = 0; r < 3; ++r) {
+        const __m256d ux = _mm256_mul_pd(_mm256_broadcast_pd(reinterpret_cast<const __m128d*>(pair.axis[r][0])), x);
+        const __m256d uy = _mm256_mul_pd(_mm256_broadcast_pd(reinterpret_cast<const __m128d*>(pair.axis[r][1])), y);
+        const __m256d uz = _mm256_mul_pd(_mm256_broadcast_pd(reinterpret_cast<const __m128d*>(pair.axis[r][2])), z);
+        const __m256d s = _mm256_add_pd(_mm256_add_pd(ux, uy), uz);
+        const __m256d above = _mm256_sub_pd(s, _mm256_broadcast_pd(reinterpret_cast<const __m128d*>(pair.hi[r])));
+        const __m256d below = _mm256_sub_pd(_mm256_broadcast_pd(reinterpret_cast<const __m128d*>(pair.lo[r])), s);
+        const __m256d g = _mm256_max_pd(_mm256_max_pd(above, below), zero);
+        sum = _mm256_add_pd(sum, _mm256_mul_pd(g, g));
+      }
+      alignas(32) double out[4];
+      _mm256_store_pd(out, sum);
+      dl[h] = out[0], dr[h] = out[1], dl[h + 1] = out[2], dr[h + 1] = out[3];
+    }
+  }
+  /// PacketBounds::near_box() for the 4 points in one pass (the same operations per lane).
+  __attribute__((target("avx"))) static inline unsigned near_box(const PreparedTriangle& t, const double* px,
+                                                                 const double* py, const double* pz,
+                                                                 const double* prune) {
+    const __m256d zero = _mm256_setzero_pd();
+    const __m256d dx = _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(_mm256_set1_pd(t.lo[0]), _mm256_loadu_pd(px)),
+                                                   _mm256_sub_pd(_mm256_loadu_pd(px), _mm256_set1_pd(t.hi[0]))),
+                                     zero);
+    const __m256d dy = _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(_mm256_set1_pd(t.lo[1]), _mm256_loadu_pd(py)),
+                                                   _mm256_sub_pd(_mm256_loadu_pd(py), _mm256_set1_pd(t.hi[1]))),
+                                     zero);
+    const __m256d dz = _mm256_max_pd(_mm256_max_pd(_mm256_sub_pd(_mm256_set1_pd(t.lo[2]), _mm256_loadu_pd(pz)),
+                                                   _mm256_sub_pd(_mm256_loadu_pd(pz), _mm256_set1_pd(t.hi[2]))),
+                                     zero);
+    const __m256d d2 =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(d2, _mm256_loadu_pd(prune), _CMP_LE_OQ)));
+  }
+};
+#endif
+
+/// nearest_packet() over the oriented tree for K points: refine_nodes()'s pruning and tie rule
+/// per point, with a mask of the points still active in the subtree (a point whose bound of a
+/// node exceeds its prune bound needs nothing below it: the node's box holds all the subtree's
+/// triangles, and its prune bound only shrinks). A node is opened while one point is active in
+/// it; a triangle is measured for each active point its box does not exclude. So each point's
+/// result is the minimum of its computed distances over all triangles, as refine_nodes()'s.
+template <int K, class Bounds = PacketBounds<K>>
+inline void refine_packet(const TriangleTree::OrientedNode* nodes, const TriangleTree::ChildPair* pairs,
+                          const std::vector<PreparedTriangle>& triangles, double slack, const Vec3* p,
+                          TriangleTree::Nearest* best) {
+  double prune_bound[K];
+  double px[K], py[K], pz[K];
+  for (int c = 0; c < K; ++c) {
+    prune_bound[c] = std::numeric_limits<double>::infinity();
+    if (std::isfinite(best[c].squared_distance)) {
+      const double r = std::sqrt(best[c].squared_distance) + slack;
+      prune_bound[c] = r * r;
+    }
+    px[c] = p[c].x(), py[c] = p[c].y(), pz[c] = p[c].z();
+  }
+  struct Pending {
+    std::uint32_t node;
+    unsigned active;
+    double bound[K];  // the node's bound for each active point
+  };
+  Pending stack[128];
+  int top = 0;
+  std::uint32_t current = 0;
+  unsigned active = 0;
+  for (int c = 0; c < K; ++c) {
+    active |= static_cast<unsigned>(node_lower_bound(nodes[0], px[c], py[c], pz[c]) <= prune_bound[c]) << c;
+  }
+  if (active == 0) return;
+  for (;;) {
+    const TriangleTree::OrientedNode& node = nodes[current];
+    if (node.count > 0) {
+      for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
+        const PreparedTriangle& t = triangles[s];
+        // The points whose own bound the triangle's box does not exceed (each point's bound
+        // changes only by its own distances, measured after its test).
+        for (unsigned near = Bounds::near_box(t, px, py, pz, prune_bound) & active; near != 0; near &= near - 1) {
+          const int c = __builtin_ctz(near);
+          const double d2 = squared_distance(p[c], t);
+          if (d2 < best[c].squared_distance || (d2 == best[c].squared_distance && s < best[c].triangle)) {
+            best[c].squared_distance = d2;
+            best[c].triangle = s;
+            const double r = std::sqrt(d2) + slack;
+            prune_bound[c] = r * r;
+          }
+        }
+      }
+    } else {
+      const std::uint32_t left = current + 1;
+      const std::uint32_t right = node.first;
+      double dl[K], dr[K];
+      unsigned in_left = 0, in_right = 0;
+      double sum_left = 0.0, sum_right = 0.0;  // only orders the children (nearer on average first)
+      Bounds::get(pairs[current], px, py, pz, dl, dr);
+      for (int c = 0; c < K; ++c) {
+        const unsigned on = (active >> c) & 1u;
+        in_left |= (on & static_cast<unsigned>(dl[c] <= prune_bound[c])) << c;
+        in_right |= (on & static_cast<unsigned>(dr[c] <= prune_bound[c])) << c;
+        sum_left += on ? dl[c] : 0.0;
+        sum_right += on ? dr[c] : 0.0;
+      }
+      if ((in_left | in_right) != 0) {
+        const bool left_first = in_right == 0 || (in_left != 0 && sum_left <= sum_right);
+        if (left_first) {
+          if (in_right != 0) {
+            Pending& e = stack[top++];
+            e.node = right, e.active = in_right;
+            for (int c = 0; c < K; ++c) e.bound[c] = dr[c];
+          }
+          current = left, active = in_left;
+        } else {
+          if (in_left != 0) {
+            Pending& e = stack[top++];
+            e.node = left, e.active = in_left;
+            for (int c = 0; c < K; ++c) e.bound[c] = dl[c];
+          }
+          current = right, active = in_right;
+        }
+        continue;
+      }
+    }
+    // Pop the next box still within the bound of one of its points.
+    bool found = false;
+    while (top > 0) {
+      const Pending& candidate = stack[--top];
+      unsigned still = 0;
+      for (int c = 0; c < K; ++c) still |= static_cast<unsigned>(candidate.bound[c] <= prune_bound[c]) << c;
+      still &= candidate.active;
+      if (still != 0) {
+        current = candidate.node;
+        active = still;
+        found = true;
+        break;
+      }
+    }
+    if (!found) break;
+  }
+}
+
+#if defined(PPOHDEM_PACKET_AVX)
+/// flatten: everything inlined into this AVX function, so the AVX bounds can be (GCC refuses to
+/// inline a target("avx") function into a caller without it).
+__attribute__((target("avx"), flatten)) void refine_packet4_avx(const TriangleTree::OrientedNode* nodes,
+                                                                const TriangleTree::ChildPair* pairs,
+                                                                const std::vector<PreparedTriangle>& triangles,
+                                                                double slack, const Vec3* p,
+                                                                TriangleTree::Nearest* best) {
+  refine_packet<4, PacketBoundsAvx>(nodes, pairs, triangles, slack, p, best);
+}
+
+// At static initialization: __builtin_cpu_init() first (GCC's rule for constructors).
+const bool kHaveAvx = [] {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx") != 0;
+}();
+#endif
+
 }  // namespace
+
+void TriangleTree::nearest_packet(const Vec3* p, const std::int64_t* hint, int count, Nearest* out,
+                                  bool allow_avx) const {
+  for (int c = 0; c < count; ++c) {
+    out[c] = Nearest{};
+    if (hint[c] >= 0 && !nodes_.empty()) {
+      const auto t = static_cast<std::uint32_t>(hint[c]);
+      out[c].squared_distance = squared_distance(p[c], triangles_[t]);
+      out[c].triangle = t;
+    }
+  }
+  if (nodes_.empty()) return;
+  if (!oriented_boxes_ || count == 1) {
+    for (int c = 0; c < count; ++c) refine_in_subtree(p[c], 0, out[c]);
+    return;
+  }
+  switch (count) {
+    case 2: refine_packet<2>(oriented_.data(), pairs_.data(), triangles_, slack_, p, out); break;
+    case 3: refine_packet<3>(oriented_.data(), pairs_.data(), triangles_, slack_, p, out); break;
+    default:
+#if defined(PPOHDEM_PACKET_AVX)
+      if (kHaveAvx && allow_avx) {
+        refine_packet4_avx(oriented_.data(), pairs_.data(), triangles_, slack_, p, out);
+        break;
+      }
+#endif
+      refine_packet<4>(oriented_.data(), pairs_.data(), triangles_, slack_, p, out);
+      break;
+  }
+}
 
 void TriangleTree::refine_in_subtree(const Vec3& p, std::uint32_t root, Nearest& best) const {
   if (oriented_boxes_) {
