@@ -6,7 +6,7 @@
 # offers) and by LIGGGHTS, LAMMPS (GRANULAR) and YADE, each on 1 and 2 cores, in this one script.
 #
 #   bash ci/bench-dem.sh [--quick] [--build-dir DIR] [--out DIR] [--codes "ours liggghts lammps yade"]
-#                        [--sizes "N:STEPS ..."]
+#                        [--sizes "N:STEPS ..."] [--engines "reference fast"] [--repeat K]
 #
 #   --quick   10,000 particles x 10,000 steps only (< 20 min on the 2-core VM)
 #   default   10,000 particles x 10,000 steps and 100,000 particles x 300 steps (< 30 min)
@@ -16,6 +16,11 @@
 # almost no contacts, so shorter runs (e.g. --sizes "10000:1000") measure the neighbour list
 # and integration, not the contact law; docs/performance.md reports both. The 100,000 x 300
 # run (free fall) gives the memory per particle and the scaling with N.
+#   --engines  the ppohdem engines to run (default: every one `ppohdem simulate --help` lists)
+#   --repeat K run every code K times, interleaved (all codes once, then all again, ...), and
+#              add a table of the best and median loop times and their ratios: on a shared or
+#              virtual machine single runs of one binary vary by up to 1.4x here
+#              (docs/performance.md)
 # Peers missing from PATH are skipped (install: apt-get install liggghts lammps yade).
 #
 # Per run it prints: particle-steps per second (time loop only: LAMMPS/LIGGGHTS "Loop time",
@@ -37,6 +42,8 @@ BUILD_DIR=${BUILD_DIR:-build}
 OUT=""
 CODES="ours liggghts lammps yade"
 SIZES_ARG=""
+ENGINES_ARG=""
+REPEAT=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
@@ -44,6 +51,8 @@ while [ $# -gt 0 ]; do
     --out) OUT=$2; shift ;;
     --codes) CODES=$2; shift ;;
     --sizes) SIZES_ARG=$2; shift ;;
+    --engines) ENGINES_ARG=$2; shift ;;
+    --repeat) REPEAT=$2; shift ;;
     *) echo "bench-dem: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -66,10 +75,11 @@ fi
 ENGINES=()
 if [[ " $CODES " == *" ours "* ]]; then
   help=$("$PPOHDEM" simulate --help 2>&1 || true)
-  for e in reference fast; do
-    if grep -qE "engine:.*\b$e\b" <<<"$help"; then ENGINES+=("$e"); fi
+  for e in ${ENGINES_ARG:-reference fast}; do
+    if grep -qE "engine:.*\b$e\b" <<<"$help"; then ENGINES+=("$e"); else echo "bench-dem: no engine '$e' in $PPOHDEM, skipped" >&2; fi
   done
 fi
+if ! [[ "$REPEAT" =~ ^[1-9][0-9]*$ ]]; then echo "bench-dem: --repeat needs a positive integer, got '$REPEAT'" >&2; exit 2; fi
 
 if [ "$QUICK" -eq 1 ]; then SIZES=("10000:10000"); else SIZES=("10000:10000" "100000:300"); fi
 if [ -n "$SIZES_ARG" ]; then read -r -a SIZES <<<"$SIZES_ARG"; fi
@@ -162,26 +172,58 @@ for spec in "${SIZES[@]}"; do
   case_dir="$OUT/n$n"
   mkdir -p "$case_dir"
   $PY validation/peers/make_bench.py "$n" "$steps" "$case_dir"
-  echo "bench-dem: N = $n, $steps steps (dt = 8.65e-6 s), load: $(uptime)" >&2
-  for code in $CODES; do
-    case "$code" in
-      ours) for e in "${ENGINES[@]}"; do run_ours "$e" "$n" "$steps" "$case_dir"; done ;;
-      liggghts|lammps|yade)
-        exe=$code; [ "$code" = lammps ] && exe=lmp
-        if ! command -v "$exe" >/dev/null 2>&1; then echo "bench-dem: $exe not installed, skipped" >&2; continue; fi
-        run_peer "$code" "$n" "$steps" 1 "$case_dir"
-        run_peer "$code" "$n" "$steps" 2 "$case_dir" ;;
-    esac
+  for rep in $(seq "$REPEAT"); do
+    echo "bench-dem: N = $n, $steps steps (dt = 8.65e-6 s), round $rep of $REPEAT, load: $(uptime)" >&2
+    for code in $CODES; do
+      case "$code" in
+        ours) for e in "${ENGINES[@]}"; do run_ours "$e" "$n" "$steps" "$case_dir"; done ;;
+        liggghts|lammps|yade)
+          exe=$code; [ "$code" = lammps ] && exe=lmp
+          if ! command -v "$exe" >/dev/null 2>&1; then echo "bench-dem: $exe not installed, skipped" >&2; continue; fi
+          run_peer "$code" "$n" "$steps" 1 "$case_dir"
+          run_peer "$code" "$n" "$steps" 2 "$case_dir" ;;
+      esac
+    done
   done
 done
 
 {
   echo "Measured $(date -u '+%Y-%m-%d %H:%M UTC') on $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')),"
-  echo "command: \`bash ci/bench-dem.sh$([ "$QUICK" -eq 1 ] && echo ' --quick')\`; load at start: ${LOAD_START##*load average: }, at end: $(uptime | sed 's/.*load average: //')."
+  echo "command: \`bash ci/bench-dem.sh$([ "$QUICK" -eq 1 ] && echo ' --quick')$([ "$REPEAT" -gt 1 ] && echo " --repeat $REPEAT")\`; load at start: ${LOAD_START##*load average: }, at end: $(uptime | sed 's/.*load average: //')."
   echo
   echo "| code | N | cores | steps | loop [s] | particle-steps/s (wall) | particle-steps/s (CPU) | peak RSS [MB] | bytes/particle | final state: KE [J], mean z [m], max overlap/d, contacts/particle |"
   echo "|---|---|---|---|---|---|---|---|---|---|"
   tail -n +2 "$RESULTS" | awk -F'\t' 'NF >= 10 {printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10} NF < 10 {gsub("\t", " | "); print "| " $0 " |"}'
+  if [ "$REPEAT" -gt 1 ]; then
+    # Best and median loop time of each (code, N, cores) over the rounds, and the ratios of
+    # particle-steps per second against LIGGGHTS on 1 core and against the same code on 1 core
+    # (bests against bests, medians against medians).
+    echo
+    echo "Over the $REPEAT interleaved rounds (loop seconds; ratios of particle-steps per second):"
+    echo
+    echo "| code | N | cores | runs | best [s] | median [s] | best vs LIGGGHTS 1 core | median vs LIGGGHTS 1 core | median vs own 1 core |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    tail -n +2 "$RESULTS" | awk -F'\t' 'NF >= 10 && $5 > 0 {print $1 "\t" $2 "\t" $3 "\t" $5}' |
+      sort -t"$(printf '\t')" -k1,1 -k2,2n -k3,3n -k4,4g |
+      awk -F'\t' '
+        { key = $1 "\t" $2 "\t" $3; if (!(key in count)) order[++keys] = key; t[key, ++count[key]] = $4 }
+        END {
+          for (k = 1; k <= keys; k++) {
+            key = order[k]; c = count[key]
+            best[key] = t[key, 1]
+            med[key] = (c % 2) ? t[key, (c + 1) / 2] : 0.5 * (t[key, c / 2] + t[key, c / 2 + 1])
+          }
+          for (k = 1; k <= keys; k++) {
+            key = order[k]; split(key, f, "\t")
+            o = f[1]; sub(/ \(ranks\)$/, " (threads)", o)  # ppohdem on 1 core runs as 1 thread
+            lig = "liggghts\t" f[2] "\t1"; own = o "\t" f[2] "\t1"
+            rb = (lig in best) ? sprintf("%.2f", best[lig] / best[key]) : "-"
+            rm = (lig in med) ? sprintf("%.2f", med[lig] / med[key]) : "-"
+            ro = (own in med) ? sprintf("%.2f", med[own] / med[key]) : "-"
+            printf "| %s | %s | %s | %d | %.3f | %.3f | %s | %s | %s |\n", f[1], f[2], f[3], count[key], best[key], med[key], rb, rm, ro
+          }
+        }'
+  fi
 } >"$OUT/results.md"
 echo "bench-dem: wrote $OUT/results.md" >&2
 cat "$OUT/results.md"
