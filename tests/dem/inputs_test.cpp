@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -97,6 +98,53 @@ TEST(Scene, UnknownKeyIsAnErrorNamingTheKey) {
   const std::string msg = error_of([&] { read_scene(dir / "s.toml"); });
   EXPECT_NE(msg.find("unknown key 'poison'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("s.toml:"), std::string::npos) << msg;
+}
+
+// [simulation] energy_balance = false through the whole run: the key is read, the run ends
+// with the same final state as the tracked run, and energy.csv carries nan in the three
+// contact columns (and finite kinetic energies). A non-boolean value names the key.
+TEST(Scene, EnergyBalanceOffRunsTheSameMotionWithNanContactEnergies) {
+  const fs::path dir = ppohdem::test::scratch_dir();
+  std::ifstream in(ppohdem::test::fixture("scenes/two_spheres.toml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string tracked = text.str();
+  std::string untracked = tracked;
+  untracked.insert(untracked.find("[simulation]") + 12, "\nenergy_balance = false");
+  untracked.replace(untracked.find("dir = \"out\""), 11, "dir = \"off\"");
+  fs::copy(ppohdem::test::fixture("scenes/two_spheres.csv"), dir / "two_spheres.csv");
+  write(dir / "on.toml", tracked);
+  write(dir / "off.toml", untracked);
+  Scene on = read_scene(dir / "on.toml");
+  Scene off = read_scene(dir / "off.toml");
+  EXPECT_TRUE(on.setup.energy_balance);
+  ASSERT_FALSE(off.setup.energy_balance);
+  on.output.progress = off.output.progress = false;
+  on.output.every = off.output.every = 0;
+  std::ostringstream log;
+  ppohdem::reference::dem::ReferenceEngine engine_on(on.setup);
+  ppohdem::reference::dem::ReferenceEngine engine_off(off.setup);
+  run_scene(engine_on, on, "test header", log);
+  const RunSummary s = run_scene(engine_off, off, "test header", log);
+  EXPECT_TRUE(std::isnan(s.final.dissipated));
+  const Particles a = read_particles_csv(dir / "out" / "final.csv");
+  const Particles b = read_particles_csv(dir / "off" / "final.csv");
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].position, b[i].position);
+    EXPECT_EQ(a[i].velocity, b[i].velocity);
+  }
+  std::ifstream csv(dir / "off" / "energy.csv");
+  std::string line, last;
+  while (std::getline(csv, line)) {
+    if (!line.empty() && line[0] != '#') last = line;
+  }
+  EXPECT_NE(last.find(",nan,nan,nan"), std::string::npos) << last;
+  std::string bad = tracked;
+  bad.insert(bad.find("[simulation]") + 12, "\nenergy_balance = \"no\"");
+  write(dir / "bad.toml", bad);
+  const std::string msg = error_of([&] { read_scene(dir / "bad.toml"); });
+  EXPECT_NE(msg.find("energy_balance"), std::string::npos) << msg;
 }
 
 SimulationSetup two_soft_spheres(double gap_fraction, double dt) {

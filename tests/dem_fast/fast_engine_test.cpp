@@ -175,6 +175,40 @@ TEST_P(FastAgainstReference, TrajectoriesAreBitwiseTheSame) {
   }
 }
 
+// [simulation] energy_balance = false: no contact energy book-keeping. The energies only
+// follow the motion, never steer it, so both engines' trajectories must be the very bits of
+// the tracked run (and of each other); the three contact terms are NaN, the motion terms the
+// same bits as with tracking.
+TEST_P(FastAgainstReference, UntrackedEnergiesLeaveTheTrajectoriesBitwiseUnchanged) {
+  SimulationSetup tracked = scene(GetParam());
+  SimulationSetup untracked = tracked;
+  untracked.energy_balance = false;
+  FastEngine fast(tracked);
+  FastEngine fast_untracked(untracked);
+  ReferenceEngine reference_untracked(untracked);
+  for (int block = 0; block < 2; ++block) {
+    fast.advance(100);
+    fast_untracked.advance(100);
+    reference_untracked.advance(100);
+    const std::string when = "after " + std::to_string(fast.step_count()) + " steps";
+    expect_same_bits(fast.particles(), fast_untracked.particles(), "fast, untracked, " + when);
+    expect_same_bits(fast.particles(), reference_untracked.particles(), "reference, untracked, " + when);
+  }
+  EXPECT_GT(fast.contact_counts().particle_pairs, 50u);  // not vacuous: contacts evaluated
+  for (const Energies& e : {fast_untracked.energies(), reference_untracked.energies()}) {
+    EXPECT_TRUE(std::isnan(e.elastic));
+    EXPECT_TRUE(std::isnan(e.dissipated));
+    EXPECT_TRUE(std::isnan(e.boundary_work));
+    EXPECT_EQ(e.kinetic, fast.energies().kinetic);
+    EXPECT_EQ(e.rotational, fast.energies().rotational);
+    EXPECT_EQ(e.gravitational, fast.energies().gravitational);
+  }
+  EXPECT_TRUE(std::isfinite(fast.energies().dissipated));
+  if (GetParam() != SceneKind::kHertzFrictionlessFree) {
+    EXPECT_GT(fast.energies().dissipated, 0.0);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Scenes, FastAgainstReference,
                          ::testing::Values(SceneKind::kHertzFrictionWalls, SceneKind::kLinearFrictionWallsObject,
                                            SceneKind::kHertzFrictionlessFree),

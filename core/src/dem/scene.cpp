@@ -37,11 +37,12 @@ class SceneParser {
     s.source = name_;
 
     const toml::table& sim = require_table(root, "simulation");
-    check_keys(sim, "simulation", {"dt", "steps", "gravity"});
+    check_keys(sim, "simulation", {"dt", "steps", "gravity", "energy_balance"});
     s.dt = require_number(sim, "simulation", "dt");
     scene.steps = require_integer(sim, "simulation", "steps");
     if (scene.steps < 0) fail(sim.get("steps"), "[simulation] steps must be >= 0");
     s.gravity = optional_vec3(sim, "simulation", "gravity").value_or(Vec3::Zero());
+    s.energy_balance = optional_bool(sim, "simulation", "energy_balance").value_or(true);
 
     const toml::table& contact = require_table(root, "contact");
     check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio"});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 
 #include "force_passes.hpp"
@@ -31,7 +32,7 @@ std::unique_ptr<ForcePass> make_boundary_pass(const ppohdem::dem::PairLaws<Law>&
 
 ReferenceEngine::ReferenceEngine(const SimulationSetup& setup)
     : particles_(setup.particles), dt_(setup.dt), gravity_(setup.gravity),
-      boundary_count_(setup.boundaries.size()) {
+      boundary_count_(setup.boundaries.size()), energy_balance_(setup.energy_balance) {
   ppohdem::dem::validate_setup(setup);
   for (const Particle& p : particles_) {
     const ppohdem::dem::Material& material = setup.material_at(p.material);
@@ -65,9 +66,11 @@ void ReferenceEngine::evaluate_forces(double history_dt) {
                        history_dt};
   pair_pass_->add_forces(context);
   if (boundary_pass_) boundary_pass_->add_forces(context);
-  elastic_ = context.elastic;
-  dissipated_ += context.dissipated;
-  boundary_work_ += context.boundary_work;
+  if (energy_balance_) {  // else not tracked (SimulationSetup::energy_balance): zero, reported NaN
+    elastic_ = context.elastic;
+    dissipated_ += context.dissipated;
+    boundary_work_ += context.boundary_work;
+  }
   deepest_ = context.deepest.value_or(ppohdem::dem::LargestOverlap{});  // ratio 0: no contact
 }
 
@@ -113,6 +116,7 @@ Energies ReferenceEngine::energies() const {
   e.elastic = elastic_;
   e.dissipated = dissipated_;
   e.boundary_work = boundary_work_;
+  if (!energy_balance_) e.elastic = e.dissipated = e.boundary_work = std::numeric_limits<double>::quiet_NaN();
   return e;
 }
 

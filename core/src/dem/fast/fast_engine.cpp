@@ -136,6 +136,9 @@ struct FastEngine::Impl {
   double dissipated = 0.0;
   double boundary_work = 0.0;
   double power = 0.0;  ///< P(n) of the last evaluation [W]
+  /// SimulationSetup::energy_balance; false: the four accumulators above stay zero (the kernel
+  /// computes no energy terms) and energies() reports the contact terms as NaN.
+  bool energy_balance = true;
   std::vector<BoundaryLoad> loads;
   std::size_t escaped = 0;  ///< whole system
   mutable Particles out;  ///< particles() in construction order (whole system)
@@ -552,7 +555,9 @@ struct FastEngine::Impl {
       }
     }
     std::sort(lost_terms.begin(), lost_terms.end());
-    for (const auto& term : lost_terms) dissipated += std::get<2>(term);
+    if (energy_balance) {
+      for (const auto& term : lost_terms) dissipated += std::get<2>(term);
+    }
     lost_terms.clear();
   }
 
@@ -713,6 +718,7 @@ struct FastEngine::Impl {
 
   /// The contact energy terms of one evaluation added to the accumulators.
   void add_contact_sums(const std::array<double, 4>& sums, double history_dt) {
+    if (!energy_balance) return;  // not tracked: the accumulators stay zero
     const auto [e, d, w, p] = sums;
     elastic = e;
     dissipated += d;
@@ -835,6 +841,7 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   Impl& m = *impl_;
   if (options.comm != nullptr) m.comm = options.comm;
   m.s.dt = setup.dt;
+  m.energy_balance = setup.energy_balance;
   m.s.gravity = setup.gravity;
   m.s.boundaries = setup.boundaries;
   m.s.walls.resize(setup.boundaries.size());
@@ -959,6 +966,7 @@ Energies FastEngine::energies() const {
   e.elastic = m.elastic;
   e.dissipated = m.dissipated;
   e.boundary_work = m.boundary_work;
+  if (!m.energy_balance) e.elastic = e.dissipated = e.boundary_work = std::numeric_limits<double>::quiet_NaN();
   return e;
 }
 

@@ -110,6 +110,7 @@ class ReferenceEngine final : public ppohdem::dem::DemEngine {
   double elastic_ = 0.0;
   double dissipated_ = 0.0;
   double boundary_work_ = 0.0;
+  bool energy_balance_ = true;  ///< SimulationSetup::energy_balance
   std::optional<ppohdem::dem::LargestOverlap> deepest_;  ///< of the last evaluation
 };
 
