@@ -37,6 +37,14 @@ std::string error_of(F&& f) {
 
 const char* kHeader = "id,x,y,z,vx,vy,vz,wx,wy,wz,radius\n";
 
+/// The text of a fixture file.
+std::string fixture_text(const std::string& name) {
+  std::ifstream in(ppohdem::test::fixture(name));
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 TEST(ParticleCsv, RejectsNegativeRadiusNamingTheLine) {
   const auto f = write(ppohdem::test::scratch_dir() / "p.csv",
                        std::string(kHeader) + "1,0,0,0,0,0,0,0,0,0,1e-3\n2,1,0,0,0,0,0,0,0,0,-1e-3\n");
@@ -89,10 +97,7 @@ TEST(Scene, IssueExampleRunsAsWrittenAndGivesRestitution) {
 
 TEST(Scene, UnknownKeyIsAnErrorNamingTheKey) {
   const fs::path dir = ppohdem::test::scratch_dir();
-  std::ifstream in(ppohdem::test::fixture("scenes/two_spheres.toml"));
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string scene = text.str();
+  std::string scene = fixture_text("scenes/two_spheres.toml");
   scene.replace(scene.find("poisson"), 7, "poison");
   write(dir / "s.toml", scene);
   const std::string msg = error_of([&] { read_scene(dir / "s.toml"); });
@@ -105,10 +110,7 @@ TEST(Scene, UnknownKeyIsAnErrorNamingTheKey) {
 // contact columns (and finite kinetic energies). A non-boolean value names the key.
 TEST(Scene, EnergyBalanceOffRunsTheSameMotionWithNanContactEnergies) {
   const fs::path dir = ppohdem::test::scratch_dir();
-  std::ifstream in(ppohdem::test::fixture("scenes/two_spheres.toml"));
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string tracked = text.str();
+  const std::string tracked = fixture_text("scenes/two_spheres.toml");
   std::string untracked = tracked;
   untracked.insert(untracked.find("[simulation]") + 12, "\nenergy_balance = false");
   untracked.replace(untracked.find("dir = \"out\""), 11, "dir = \"off\"");
@@ -140,7 +142,7 @@ TEST(Scene, EnergyBalanceOffRunsTheSameMotionWithNanContactEnergies) {
     if (!line.empty() && line[0] != '#') last = line;
   }
   EXPECT_NE(last.find(",nan,nan,nan"), std::string::npos) << last;
-  std::string bad = tracked;
+  std::string bad = tracked;  // a copy
   bad.insert(bad.find("[simulation]") + 12, "\nenergy_balance = \"no\"");
   write(dir / "bad.toml", bad);
   const std::string msg = error_of([&] { read_scene(dir / "bad.toml"); });
