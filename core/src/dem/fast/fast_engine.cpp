@@ -856,7 +856,7 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   }
   // Histories if any pair of materials has friction (pair_laws.hpp).
   m.s.friction = std::visit([&](const auto& law) { return PairLaws(setup, law).any_friction(); }, setup.law);
-  m.kernel = make_force_kernel(setup);
+  m.kernel = make_force_kernel(setup, options.vector_contacts);
   for (auto& p : setup.particles) m.r_max = std::max(m.r_max, p.radius);
   m.skin = options.skin_fraction * m.r_max;
   std::vector<Vec3> centres;

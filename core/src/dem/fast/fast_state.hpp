@@ -52,6 +52,27 @@ struct BoundaryRecord {
   Vec3 point = Vec3::Zero();   ///< contact point [m]
 };
 
+/// One entry of a chunk's pair list (frictional kernels, force_kernel.cpp "Chunks"): a touching
+/// pair that the chunk's particle evaluates, or a contact that ended (its stored energy is lost).
+/// Entries are in the order in which the particle books them (its slot order).
+struct PairEntry {
+  enum Kind : std::uint32_t { kContact, kContactUpper, kEnded };
+  std::uint32_t i = 0;     ///< storage index of the evaluating particle
+  std::uint32_t j = 0;     ///< storage index of the partner
+  std::uint32_t code = 0;  ///< spring code of a contact
+  Kind kind = kContact;    ///< kContactUpper: the partner's id is above i's (energy and count here)
+  double elastic = 0.0;     ///< contact: energy stored in it now [J]
+  double dissipated = 0.0;  ///< contact: dissipated this step; ended: its lost stored energy [J]
+  double overlap = 0.0;     ///< contact: delta [m]
+};
+
+/// Storage for a chunk's pair list and the indices of its contacts (the entries the contact law
+/// evaluates); the kernel sizes them for the chunk's slots and counts the valid entries itself.
+struct PairBatch {
+  std::vector<PairEntry> entries;
+  std::vector<std::uint32_t> contacts;
+};
+
 /// What one range of particles produced in a force evaluation (concatenated in range order,
 /// which is storage order: the ranges are contiguous and ascending).
 struct ThreadOutput {
@@ -63,6 +84,7 @@ struct ThreadOutput {
   /// for its next new contacts, so a bed whose contacts open and close between list builds
   /// does not grow its pools (friction only; emptied by lay_out_springs).
   std::vector<std::uint32_t> free_springs;
+  PairBatch batch;  ///< the current chunk's pairs (frictional kernels; reused storage)
 };
 
 /// Deterministic choice of the deeper contact: larger ratio, ties to the smaller
@@ -354,7 +376,9 @@ class ForceKernel {
   virtual void evaluate(FastState& s, double time, double dt) const = 0;
 };
 
-/// The kernel for the scene's law, friction and boundary kinds.
-std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup);
+/// The kernel for the scene's law, friction and boundary kinds. `vector_contacts`: evaluate the
+/// contacts of a one-material Hertz-Mindlin scene with friction four at a time where the CPU
+/// has AVX (hertz_mindlin_x4.hpp; the same bits); false: always one at a time.
+std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup, bool vector_contacts = true);
 
 }  // namespace ppohdem::dem::fast

@@ -20,6 +20,13 @@
 // on the settled 10,000-particle bench bed (docs/performance.md): 1.17x on one thread; writing
 // the other side's mirrored history at every evaluation instead made it 8 % slower than
 // evaluating every pair twice (a scattered 104-byte write per contact).
+//
+// Chunks (frictional kernels). The first pass takes 64 particles at a time: it lists their
+// slots' touching pairs (and the contacts that ended, whose stored energy is lost) in slot
+// order, evaluates the listed contacts (four at a time with AVX for one Hertz-Mindlin law:
+// hertz_mindlin_x4.hpp, the same bits), then books each particle's entries in slot order and
+// adds its boundaries, so every sum keeps the order of one particle at a time. Measured on the
+// settled bed: docs/performance.md "Four contacts at a time".
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -29,6 +36,7 @@
 #include <variant>
 
 #include "fast_state.hpp"
+#include "hertz_mindlin_x4.hpp"
 #include "ppohdem/dem/material.hpp"
 #include "ppohdem/dem/pair_laws.hpp"
 
@@ -61,10 +69,61 @@ inline double pair_value(double a, double b) { return a * b / (a + b); }
 // kEnergy false ([simulation] energy_balance = false): no contact energy terms at all (the
 // previous-arms displacement, elastic energy, the dissipation and boundary-work terms); the
 // forces, torques and histories are the same bit for bit (measured: 10 % of the settled bed).
+/// Particles per chunk of the frictional kernels' first pass (their pair lists stay in L1).
+constexpr std::size_t kChunk = 64;
+
 template <class Law, bool kFriction, bool kWalls, bool kOthers, bool kMulti, bool kEnergy>
 class Kernel final : public ForceKernel {
  public:
-  explicit Kernel(const PairLaws<Law>& laws) : laws_(laws), law_(laws.pair(0, 0)) {}
+  /// The contact law runs four contacts at a time for one Hertz-Mindlin law with friction.
+  static constexpr bool kX4 = std::is_same_v<Law, HertzMindlin> && kFriction && !kMulti;
+
+  Kernel(const PairLaws<Law>& laws, bool vector_contacts)
+      : laws_(laws), law_(laws.pair(0, 0)), x4_(kX4 && vector_contacts && x4_contacts_available()) {}
+
+  /// The contacts entries[contacts[k]], k < count, of a chunk (friction): springs, pair results and the entries'
+  /// energies and overlaps. Four at a time (hertz_mindlin_x4) or one at a time, the same bits.
+  void evaluate_contacts(FastState& s, PairEntry* entries, const std::uint32_t* contacts, std::size_t count,
+                         double dt) const {
+    if constexpr (kX4) {
+      if (x4_) {
+        hertz_mindlin_x4<kEnergy>(law_, s, entries, contacts, count, dt);
+        return;
+      }
+    }
+    for (std::size_t c = 0; c < count; ++c) {
+      PairEntry& entry = entries[contacts[c]];
+      const std::size_t i = entry.i;
+      const std::uint32_t j = entry.j;
+      const double ri = s.radius[i];
+      const Vec3 d = s.x[i] - s.x[j];  // from j to i
+      const double distance = d.norm();
+      ContactKinematics k;
+      k.normal = d / distance;
+      k.overlap = ri + s.radius[j] - distance;
+      const Vec3 r_i = -(ri - 0.5 * k.overlap) * k.normal;
+      const Vec3 r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
+      k.relative_velocity = (s.pv[i] + s.pw[i].cross(r_i)) - (s.pv[j] + s.pw[j].cross(r_j));
+      k.relative_displacement = dt * ((s.v[i] + s.w[i].cross(r_i)) - (s.v[j] + s.w[j].cross(r_j)));
+      k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
+      k.pair.r_eff = pair_value(ri, s.radius[j]);
+      TangentialSpring& sp = s.spring_at(entry.code);
+      if constexpr (kEnergy) {  // the energy terms' only use
+        k.relative_displacement_previous_arms =
+            dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
+      }
+      const ContactForce f = frictional_contact_force(pair_law(s, i, j), k, sp, dt);
+      sp.branch_i = r_i;
+      sp.branch_j = r_j;
+      PairResult& result = s.result_at(entry.code);
+      result.force = f.on_i;
+      result.torque_i = r_i.cross(f.on_i);
+      result.torque_j = r_j.cross(f.on_i);
+      entry.elastic = f.elastic_energy;
+      entry.dissipated = f.dissipated;
+      entry.overlap = k.overlap;
+    }
+  }
 
   /// The law of particles i and j (storage indices), and of particle i with boundary b.
   const Law& pair_law(const FastState& s, std::size_t i, std::size_t j) const {
@@ -145,187 +204,113 @@ class Kernel final : public ForceKernel {
       out.newly_escaped.clear();
       out.deepest.reset();
       const auto started = std::chrono::steady_clock::now();  // for balance_split
-      for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) {
-        Vec3 force = Vec3::Zero();
-        Vec3 torque = Vec3::Zero();
-        double elastic = 0.0, dissipated = 0.0, work = 0.0, power = 0.0;
+      // The boundaries of particle i in boundary order, then its stores (both kinds of kernel).
+      auto boundaries_and_stores = [&](std::size_t i, Vec3& force, Vec3& torque, double& elastic, double& dissipated) {
         const Vec3 xi = s.x[i];
         const double ri = s.radius[i];
         const std::int64_t idi = s.id[i];
-        // --- particle pairs, ascending partner id; `upper`: the partner's id is above idi ---
-        auto pair = [&](std::uint32_t slot, bool upper) {
-          const std::uint32_t j = s.partner[slot];
-          const Vec3 d = xi - s.x[j];  // from j to i
-          const double reach = ri + s.radius[j];
-          if (!(d.squaredNorm() < reach * reach)) {
+        double work = 0.0, power = 0.0;
+          // --- boundaries, in boundary order ---
+          if constexpr (kWalls || kOthers) {
+            std::uint32_t old = s.record_first[i];
+            const std::uint32_t old_end = s.record_first[i + 1];
+            // A fixed wall farther than R + skin at the list build is neither touched nor crossed
+            // before the next build (near_boundaries): nothing to evaluate, so only the set bits
+            // of the first 32 boundaries are visited (most particles of a bed have none: no
+            // loop over the boundaries, whose exits mispredicted once per particle). A record of
+            // a skipped boundary (impossible then) would still end at the next one, as untouched.
+            auto visit_boundary = [&](std::size_t b) {
+              if constexpr (kFriction) {
+                for (; old < old_end && s.records[old].boundary < b; ++old) {
+                  if constexpr (kEnergy) dissipated += s.records[old].spring.stored_energy();  // ended
+                }
+              }
+              BoundaryContact c;
+              bool escaped = false;
+              bool touching = false;
+              if (kWalls && s.is_wall[b]) {
+                const WallData& wall = s.walls[b];
+                const double distance = (xi - wall.point).dot(wall.normal);  // PlaneWall
+                if (distance <= 0.0) {
+                  escaped = true;
+                } else if (distance < ri) {
+                  touching = true;
+                  c.normal = wall.normal;
+                  c.overlap = ri - distance;
+                  c.point = xi - distance * wall.normal;
+                  c.surface_velocity = wall.velocity;
+                }
+              } else if constexpr (kOthers) {
+                const Boundary& boundary = *s.boundaries[b];
+                if (boundary.has_escaped(xi, time)) {
+                  escaped = true;
+                } else if (const auto contact = boundary.contact(xi, ri, time)) {
+                  touching = true;
+                  c = *contact;
+                }
+              }
+              if (escaped) {
+                if (s.escaped_via[i] == 0) {
+                  s.escaped_via[i] = static_cast<std::int32_t>(b + 1);
+                  out.newly_escaped.push_back(static_cast<std::uint32_t>(i));
+                }
+                return;
+              }
+              if (!touching) return;
+              ++touching_boundaries;
+              if (!out.deepest || c.overlap / ri >= out.deepest->ratio) {
+                keep_deeper(out.deepest, LargestOverlap{c.overlap / ri, c.overlap, idi, static_cast<std::int64_t>(b), true});
+              }
+              ContactKinematics k;
+              k.normal = c.normal;
+              k.overlap = c.overlap;
+              const Vec3 r_a = c.point - xi;
+              k.relative_velocity = s.pv[i] + s.pw[i].cross(r_a) - c.surface_velocity;
+              k.pair.m_eff = s.mass[i];
+              k.pair.r_eff = ri;
+              BoundaryRecord record;
+              record.particle = static_cast<std::uint32_t>(i);
+              record.boundary = static_cast<std::uint32_t>(b);
+              ContactForce f;
+              if constexpr (kFriction) {
+                const bool continuing = old < old_end && s.records[old].boundary == b;
+                if (continuing) record.spring = s.records[old++].spring;
+                TangentialSpring& sp = record.spring;
+                // Trapezoid surface displacement (contact_force.hpp "Moving boundaries").
+                const Vec3 v_s = boundary_step_velocity(sp, continuing, c.surface_velocity);
+                k.relative_displacement = dt * (s.v[i] + s.w[i].cross(r_a) - v_s);
+                if constexpr (kEnergy) k.relative_displacement_previous_arms = dt * (s.v[i] + s.w[i].cross(sp.branch_i) - v_s);
+                f = frictional_contact_force(boundary_law(s, i, b), k, sp, dt);
+                sp.branch_i = r_a;
+              } else {
+                f = normal_contact_force(boundary_law(s, i, b), k, dt);
+              }
+              if constexpr (!kHalf) {  // else added after the pairs by the second pass
+                force += f.on_i;
+                torque += r_a.cross(f.on_i);
+              }
+              if constexpr (kEnergy) {
+                elastic += f.elastic_energy;
+                dissipated += f.dissipated;
+                // Boundary work: the dashpot's share now, the rest by the trapezoid rule of the
+                // power P = (F - F_d) . v_s (reduced in the engine) [J], [W].
+                work += f.dashpot.dot(c.surface_velocity) * dt;
+                power += (f.on_i - f.dashpot).dot(c.surface_velocity);
+              }
+              record.force = f.on_i;
+              record.point = c.point;
+              out.records.push_back(record);
+            };
+            std::uint32_t near = s.near_boundaries[i];
+            if (nb < 32) near &= (std::uint32_t{1} << nb) - 1u;
+            for (; near != 0; near &= near - 1u) visit_boundary(static_cast<std::size_t>(std::countr_zero(near)));
+            for (std::size_t b = 32; b < nb; ++b) visit_boundary(b);
             if constexpr (kFriction) {
-              std::uint32_t& code = s.spring_of[slot];
-              if (code != kNoSpring) {  // the contact ended: its stored energy is lost
-                const TangentialSpring& sp = s.spring_at(code);
-                if (kEnergy && has_history(sp) && upper) dissipated += sp.stored_energy();
-                out.free_springs.push_back(code);
-                code = kNoSpring;
+              for (; old < old_end; ++old) {
+                if constexpr (kEnergy) dissipated += s.records[old].spring.stored_energy();
               }
             }
-            return;
           }
-          const double distance = d.norm();
-          ContactKinematics k;
-          k.normal = d / distance;
-          k.overlap = ri + s.radius[j] - distance;
-          const Vec3 r_i = -(ri - 0.5 * k.overlap) * k.normal;
-          const Vec3 r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
-          k.relative_velocity = (s.pv[i] + s.pw[i].cross(r_i)) - (s.pv[j] + s.pw[j].cross(r_j));
-          k.relative_displacement = dt * ((s.v[i] + s.w[i].cross(r_i)) - (s.v[j] + s.w[j].cross(r_j)));
-          k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
-          k.pair.r_eff = pair_value(ri, s.radius[j]);
-          ContactForce f;
-          if constexpr (kFriction) {
-            std::uint32_t& code = s.spring_of[slot];
-            if (code == kNoSpring) code = new_spring_with_result(range);  // a new contact: empty history
-            TangentialSpring& sp = s.spring_at(code);
-            if constexpr (kEnergy) {  // the energy terms' only use
-              k.relative_displacement_previous_arms =
-                  dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
-            }
-            f = frictional_contact_force(pair_law(s, i, j), k, sp, dt);
-            sp.branch_i = r_i;
-            sp.branch_j = r_j;
-            PairResult& result = s.result_at(code);
-            result.force = f.on_i;
-            result.torque_i = r_i.cross(f.on_i);
-            result.torque_j = r_j.cross(f.on_i);
-          } else {
-            f = normal_contact_force(pair_law(s, i, j), k, dt);
-            force += f.on_i;
-            torque += r_i.cross(f.on_i);
-          }
-          if (upper) {  // each pair's energy once, on its lower-id side
-            if constexpr (kEnergy) {
-              elastic += f.elastic_energy;
-              dissipated += f.dissipated;
-            }
-            ++pairs;
-            const double ratio = k.overlap / std::min(ri, s.radius[j]);
-            if (!out.deepest || ratio >= out.deepest->ratio) {
-              keep_deeper(out.deepest, LargestOverlap{ratio, k.overlap, idi, s.id[j], false});
-            }
-          }
-        };
-        if constexpr (kHalf) {
-          // The lower-id owned partners evaluate their pairs (and keep this side's history);
-          // a lower-id ghost's pair is evaluated here as well (its rank evaluates the other side).
-          const std::uint32_t upper_first = s.upper_first[i];
-          if (has_ghosts) {
-            for (std::uint32_t slot = s.first[i]; slot < upper_first; ++slot) {
-              if (s.partner[slot] >= n) pair(slot, false);
-            }
-          }
-          for (std::uint32_t slot = upper_first; slot < s.first[i + 1]; ++slot) pair(slot, true);
-        } else {
-          for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) pair(slot, idi < s.id[s.partner[slot]]);
-        }
-        // --- boundaries, in boundary order ---
-        if constexpr (kWalls || kOthers) {
-          std::uint32_t old = s.record_first[i];
-          const std::uint32_t old_end = s.record_first[i + 1];
-          // A fixed wall farther than R + skin at the list build is neither touched nor crossed
-          // before the next build (near_boundaries): nothing to evaluate, so only the set bits
-          // of the first 32 boundaries are visited (most particles of a bed have none: no
-          // loop over the boundaries, whose exits mispredicted once per particle). A record of
-          // a skipped boundary (impossible then) would still end at the next one, as untouched.
-          auto visit_boundary = [&](std::size_t b) {
-            if constexpr (kFriction) {
-              for (; old < old_end && s.records[old].boundary < b; ++old) {
-                if constexpr (kEnergy) dissipated += s.records[old].spring.stored_energy();  // ended
-              }
-            }
-            BoundaryContact c;
-            bool escaped = false;
-            bool touching = false;
-            if (kWalls && s.is_wall[b]) {
-              const WallData& wall = s.walls[b];
-              const double distance = (xi - wall.point).dot(wall.normal);  // PlaneWall
-              if (distance <= 0.0) {
-                escaped = true;
-              } else if (distance < ri) {
-                touching = true;
-                c.normal = wall.normal;
-                c.overlap = ri - distance;
-                c.point = xi - distance * wall.normal;
-                c.surface_velocity = wall.velocity;
-              }
-            } else if constexpr (kOthers) {
-              const Boundary& boundary = *s.boundaries[b];
-              if (boundary.has_escaped(xi, time)) {
-                escaped = true;
-              } else if (const auto contact = boundary.contact(xi, ri, time)) {
-                touching = true;
-                c = *contact;
-              }
-            }
-            if (escaped) {
-              if (s.escaped_via[i] == 0) {
-                s.escaped_via[i] = static_cast<std::int32_t>(b + 1);
-                out.newly_escaped.push_back(static_cast<std::uint32_t>(i));
-              }
-              return;
-            }
-            if (!touching) return;
-            ++touching_boundaries;
-            if (!out.deepest || c.overlap / ri >= out.deepest->ratio) {
-              keep_deeper(out.deepest, LargestOverlap{c.overlap / ri, c.overlap, idi, static_cast<std::int64_t>(b), true});
-            }
-            ContactKinematics k;
-            k.normal = c.normal;
-            k.overlap = c.overlap;
-            const Vec3 r_a = c.point - xi;
-            k.relative_velocity = s.pv[i] + s.pw[i].cross(r_a) - c.surface_velocity;
-            k.pair.m_eff = s.mass[i];
-            k.pair.r_eff = ri;
-            BoundaryRecord record;
-            record.particle = static_cast<std::uint32_t>(i);
-            record.boundary = static_cast<std::uint32_t>(b);
-            ContactForce f;
-            if constexpr (kFriction) {
-              const bool continuing = old < old_end && s.records[old].boundary == b;
-              if (continuing) record.spring = s.records[old++].spring;
-              TangentialSpring& sp = record.spring;
-              // Trapezoid surface displacement (contact_force.hpp "Moving boundaries").
-              const Vec3 v_s = boundary_step_velocity(sp, continuing, c.surface_velocity);
-              k.relative_displacement = dt * (s.v[i] + s.w[i].cross(r_a) - v_s);
-              if constexpr (kEnergy) k.relative_displacement_previous_arms = dt * (s.v[i] + s.w[i].cross(sp.branch_i) - v_s);
-              f = frictional_contact_force(boundary_law(s, i, b), k, sp, dt);
-              sp.branch_i = r_a;
-            } else {
-              f = normal_contact_force(boundary_law(s, i, b), k, dt);
-            }
-            if constexpr (!kHalf) {  // else added after the pairs by the second pass
-              force += f.on_i;
-              torque += r_a.cross(f.on_i);
-            }
-            if constexpr (kEnergy) {
-              elastic += f.elastic_energy;
-              dissipated += f.dissipated;
-              // Boundary work: the dashpot's share now, the rest by the trapezoid rule of the
-              // power P = (F - F_d) . v_s (reduced in the engine) [J], [W].
-              work += f.dashpot.dot(c.surface_velocity) * dt;
-              power += (f.on_i - f.dashpot).dot(c.surface_velocity);
-            }
-            record.force = f.on_i;
-            record.point = c.point;
-            out.records.push_back(record);
-          };
-          std::uint32_t near = s.near_boundaries[i];
-          if (nb < 32) near &= (std::uint32_t{1} << nb) - 1u;
-          for (; near != 0; near &= near - 1u) visit_boundary(static_cast<std::size_t>(std::countr_zero(near)));
-          for (std::size_t b = 32; b < nb; ++b) visit_boundary(b);
-          if constexpr (kFriction) {
-            for (; old < old_end; ++old) {
-              if constexpr (kEnergy) dissipated += s.records[old].spring.stored_energy();
-            }
-          }
-        }
         if constexpr (!kHalf) {
           s.f[i] = force;
           s.t[i] = torque;
@@ -335,6 +320,138 @@ class Kernel final : public ForceKernel {
         s.work_p[i] = work;
         s.power_p[i] = power;
         if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
+      };
+      if constexpr (kHalf) {
+        // Chunks: the pairs of kChunk particles are first listed (contact test, ended and new
+        // contacts), then their contacts evaluated (four at a time where the AVX path runs),
+        // then each particle books its entries in slot order and adds its boundaries. The
+        // order of every sum is the one-particle-at-a-time order.
+        PairBatch& batch = out.batch;
+        for (std::size_t chunk = s.split[range]; chunk < s.split[range + 1]; chunk += kChunk) {
+          const std::size_t chunk_end = std::min(chunk + kChunk, s.split[range + 1]);
+          // At most one entry per slot (plus the scratch entry written past the last): sized
+          // once, then written without a branch per slot (whether a slot touches is a coin toss
+          // for the branch predictor).
+          const std::size_t most = s.first[chunk_end] - s.first[chunk] + 1;
+          if (batch.entries.size() < most) batch.entries.resize(most);
+          if (batch.contacts.size() < most) batch.contacts.resize(most);
+          PairEntry* const entries = batch.entries.data();
+          std::uint32_t* const contacts = batch.contacts.data();
+          std::uint32_t count = 0;           // entries listed
+          std::uint32_t contact_count = 0;   // of which contacts
+          std::uint32_t entries_of[kChunk + 1];
+          for (std::size_t i = chunk; i < chunk_end; ++i) {
+            entries_of[i - chunk] = count;
+            const Vec3 xi = s.x[i];
+            const double ri = s.radius[i];
+            auto list = [&](std::uint32_t slot, bool upper) {
+              const std::uint32_t j = s.partner[slot];
+              const Vec3 d = xi - s.x[j];  // from j to i
+              const double reach = ri + s.radius[j];
+              const bool touching = d.squaredNorm() < reach * reach;
+              std::uint32_t& code = s.spring_of[slot];
+              if (touching == (code == kNoSpring)) [[unlikely]] {  // a contact begins or ends
+                if (touching) {
+                  code = new_spring_with_result(range);  // a new contact: empty history
+                } else {  // ended: its stored energy is lost
+                  const TangentialSpring& sp = s.spring_at(code);
+                  if (kEnergy && upper && has_history(sp)) {
+                    PairEntry& ended = entries[count++];
+                    ended.kind = PairEntry::kEnded;
+                    ended.dissipated = sp.stored_energy();
+                  }
+                  out.free_springs.push_back(code);
+                  code = kNoSpring;
+                }
+              }
+              // Written always, kept (counted) only for a contact.
+              PairEntry& contact = entries[count];
+              contact.i = static_cast<std::uint32_t>(i);
+              contact.j = j;
+              contact.code = code;
+              contact.kind = upper ? PairEntry::kContactUpper : PairEntry::kContact;
+              contacts[contact_count] = count;
+              count += touching;
+              contact_count += touching;
+            };
+            // The lower-id owned partners evaluate their pairs (and keep this side's history);
+            // a lower-id ghost's pair is evaluated here as well (its rank evaluates the other side).
+            const std::uint32_t upper_first = s.upper_first[i];
+            if (has_ghosts) {
+              for (std::uint32_t slot = s.first[i]; slot < upper_first; ++slot) {
+                if (s.partner[slot] >= n) list(slot, false);
+              }
+            }
+            for (std::uint32_t slot = upper_first; slot < s.first[i + 1]; ++slot) list(slot, true);
+          }
+          entries_of[chunk_end - chunk] = count;
+          evaluate_contacts(s, entries, contacts, contact_count, dt);
+          for (std::size_t i = chunk; i < chunk_end; ++i) {
+            Vec3 force = Vec3::Zero();  // added by the second pass
+            Vec3 torque = Vec3::Zero();
+            double elastic = 0.0, dissipated = 0.0;
+            for (std::uint32_t e = entries_of[i - chunk]; e < entries_of[i + 1 - chunk]; ++e) {
+              const PairEntry& entry = entries[e];
+              if (entry.kind == PairEntry::kEnded) {
+                dissipated += entry.dissipated;
+                continue;
+              }
+              if (entry.kind != PairEntry::kContactUpper) continue;  // each pair's energy once, on its lower-id side
+              if constexpr (kEnergy) {
+                elastic += entry.elastic;
+                dissipated += entry.dissipated;
+              }
+              ++pairs;
+              const double ratio = entry.overlap / std::min(s.radius[i], s.radius[entry.j]);
+              if (!out.deepest || ratio >= out.deepest->ratio) {
+                keep_deeper(out.deepest, LargestOverlap{ratio, entry.overlap, s.id[i], s.id[entry.j], false});
+              }
+            }
+            boundaries_and_stores(i, force, torque, elastic, dissipated);
+          }
+        }
+      } else {
+        for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) {
+          Vec3 force = Vec3::Zero();
+          Vec3 torque = Vec3::Zero();
+          double elastic = 0.0, dissipated = 0.0;
+          const Vec3 xi = s.x[i];
+          const double ri = s.radius[i];
+          const std::int64_t idi = s.id[i];
+          // Frictionless: every pair from both sides, in ascending partner id; `upper`: the
+          // partner's id is above idi (each pair's energy and count once, on that side).
+          for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
+            const std::uint32_t j = s.partner[slot];
+            const bool upper = idi < s.id[j];
+            const Vec3 d = xi - s.x[j];  // from j to i
+            const double reach = ri + s.radius[j];
+            if (!(d.squaredNorm() < reach * reach)) continue;
+            const double distance = d.norm();
+            ContactKinematics k;
+            k.normal = d / distance;
+            k.overlap = ri + s.radius[j] - distance;
+            const Vec3 r_i = -(ri - 0.5 * k.overlap) * k.normal;
+            const Vec3 r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
+            k.relative_velocity = (s.pv[i] + s.pw[i].cross(r_i)) - (s.pv[j] + s.pw[j].cross(r_j));
+            k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
+            k.pair.r_eff = pair_value(ri, s.radius[j]);
+            const ContactForce f = normal_contact_force(pair_law(s, i, j), k, dt);
+            force += f.on_i;
+            torque += r_i.cross(f.on_i);
+            if (upper) {
+              if constexpr (kEnergy) {
+                elastic += f.elastic_energy;
+                dissipated += f.dissipated;
+              }
+              ++pairs;
+              const double ratio = k.overlap / std::min(ri, s.radius[j]);
+              if (!out.deepest || ratio >= out.deepest->ratio) {
+                keep_deeper(out.deepest, LargestOverlap{ratio, k.overlap, idi, s.id[j], false});
+              }
+            }
+          }
+          boundaries_and_stores(i, force, torque, elastic, dissipated);
+        }
       }
       s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     }
@@ -426,32 +543,33 @@ class Kernel final : public ForceKernel {
  private:
   PairLaws<Law> laws_;  ///< kMulti only
   Law law_;             ///< the one law (= laws_.pair(0, 0))
+  bool x4_ = false;     ///< kX4 and the CPU has AVX and the engine allows it
 };
 
 template <class Law, bool kFriction, bool kWalls, bool kOthers, bool kEnergy>
-std::unique_ptr<ForceKernel> with_materials(const PairLaws<Law>& laws) {
+std::unique_ptr<ForceKernel> with_materials(const PairLaws<Law>& laws, bool vector_contacts) {
   // The linear law has one material (pair_laws.hpp): no multi-material instance of it.
   if constexpr (std::is_same_v<Law, HertzMindlin>) {
-    if (laws.materials() > 1) return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, true, kEnergy>>(laws);
+    if (laws.materials() > 1) return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, true, kEnergy>>(laws, vector_contacts);
   }
-  return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, false, kEnergy>>(laws);
+  return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, false, kEnergy>>(laws, vector_contacts);
 }
 
 template <class Law, bool kFriction, bool kWalls, bool kEnergy>
-std::unique_ptr<ForceKernel> with_others(const PairLaws<Law>& laws, bool others) {
-  if (others) return with_materials<Law, kFriction, kWalls, true, kEnergy>(laws);
-  return with_materials<Law, kFriction, kWalls, false, kEnergy>(laws);
+std::unique_ptr<ForceKernel> with_others(const PairLaws<Law>& laws, bool others, bool vector_contacts) {
+  if (others) return with_materials<Law, kFriction, kWalls, true, kEnergy>(laws, vector_contacts);
+  return with_materials<Law, kFriction, kWalls, false, kEnergy>(laws, vector_contacts);
 }
 
 template <class Law, bool kFriction, bool kEnergy>
-std::unique_ptr<ForceKernel> with_walls(const PairLaws<Law>& laws, bool walls, bool others) {
-  if (walls) return with_others<Law, kFriction, true, kEnergy>(laws, others);
-  return with_others<Law, kFriction, false, kEnergy>(laws, others);
+std::unique_ptr<ForceKernel> with_walls(const PairLaws<Law>& laws, bool walls, bool others, bool vector_contacts) {
+  if (walls) return with_others<Law, kFriction, true, kEnergy>(laws, others, vector_contacts);
+  return with_others<Law, kFriction, false, kEnergy>(laws, others, vector_contacts);
 }
 
 }  // namespace
 
-std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup) {
+std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup, bool vector_contacts) {
   bool walls = false;
   bool others = false;
   for (const auto& b : setup.boundaries) {
@@ -466,11 +584,11 @@ std::unique_ptr<ForceKernel> make_force_kernel(const SimulationSetup& setup) {
         using Law = std::decay_t<decltype(law)>;
         const PairLaws<Law> laws(setup, law);
         if (setup.energy_balance) {
-          if (laws.any_friction()) return with_walls<Law, true, true>(laws, walls, others);
-          return with_walls<Law, false, true>(laws, walls, others);
+          if (laws.any_friction()) return with_walls<Law, true, true>(laws, walls, others, vector_contacts);
+          return with_walls<Law, false, true>(laws, walls, others, vector_contacts);
         }
-        if (laws.any_friction()) return with_walls<Law, true, false>(laws, walls, others);
-        return with_walls<Law, false, false>(laws, walls, others);
+        if (laws.any_friction()) return with_walls<Law, true, false>(laws, walls, others, vector_contacts);
+        return with_walls<Law, false, false>(laws, walls, others, vector_contacts);
       },
       setup.law);
 }

@@ -63,6 +63,10 @@ struct FastOptions {
   /// Ranks to decompose the domain over (every rank constructs the engine from the same
   /// setup); nullptr: one rank. Must outlive the engine.
   const Comm* comm = nullptr;
+  /// Evaluate the contacts of a one-material Hertz-Mindlin scene with friction four at a time
+  /// where the CPU has AVX (the same bits as one at a time; false: always one at a time, the
+  /// tests' way to check both).
+  bool vector_contacts = true;
 };
 
 class FastEngine final : public DemEngine {

@@ -1,0 +1,223 @@
+// Hertz-Mindlin contacts four at a time (see hertz_mindlin_x4.hpp). Every function that holds
+// a 4-lane value carries target("avx") and is inlined into hertz_mindlin_x4_avx, which is
+// called only after the CPU check: the rest of the program stays SSE2-only. Each formula below
+// names its scalar original; the order of operations is the original's, lane by lane.
+#include "hertz_mindlin_x4.hpp"
+
+#include <cstdint>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define PPOHDEM_X4 1
+#endif
+
+namespace ppohdem::dem::fast {
+
+#ifdef PPOHDEM_X4
+namespace {
+
+using D4 = double __attribute__((vector_size(32)));  ///< four lanes, one contact each
+struct V4 {                                           ///< four 3-vectors, one per lane
+  D4 x, y, z;
+};
+
+#define PPOHDEM_LANES [[gnu::target("avx"), gnu::always_inline]] inline
+
+PPOHDEM_LANES D4 broadcast(double a) { return D4{a, a, a, a}; }
+PPOHDEM_LANES D4 sqrt4(D4 a) { return reinterpret_cast<D4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(a))); }
+/// `condition ? a : b` per lane, `condition` a lane comparison (all bits set where true).
+template <class Mask>
+PPOHDEM_LANES D4 select(Mask condition, D4 a, D4 b) {
+  return condition ? a : b;
+}
+
+PPOHDEM_LANES V4 operator+(const V4& a, const V4& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+PPOHDEM_LANES V4 operator-(const V4& a, const V4& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+PPOHDEM_LANES V4 operator*(D4 a, const V4& b) { return {a * b.x, a * b.y, a * b.z}; }  // Eigen: scalar * vector
+PPOHDEM_LANES V4 operator/(const V4& a, D4 b) { return {a.x / b, a.y / b, a.z / b}; }  // Eigen: vector / scalar
+/// Eigen's dot and squaredNorm of 3-vectors: (a0 b0 + a1 b1) + a2 b2.
+PPOHDEM_LANES D4 dot(const V4& a, const V4& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+/// Eigen's cross product of 3-vectors: (a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0).
+PPOHDEM_LANES V4 cross(const V4& a, const V4& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+/// Lane l = base[index[l]].
+PPOHDEM_LANES D4 gather(const std::vector<double>& base, const std::uint32_t* index) {
+  return D4{base[index[0]], base[index[1]], base[index[2]], base[index[3]]};
+}
+PPOHDEM_LANES V4 gather(const Vec3* const* p) {
+  return {D4{p[0]->x(), p[1]->x(), p[2]->x(), p[3]->x()}, D4{p[0]->y(), p[1]->y(), p[2]->y(), p[3]->y()},
+          D4{p[0]->z(), p[1]->z(), p[2]->z(), p[3]->z()}};
+}
+PPOHDEM_LANES V4 gather(const std::vector<Vec3>& base, const std::uint32_t* index) {
+  const Vec3* p[4] = {&base[index[0]], &base[index[1]], &base[index[2]], &base[index[3]]};
+  return gather(p);
+}
+PPOHDEM_LANES void scatter(const V4& a, Vec3* const* p) {
+  for (int l = 0; l < 4; ++l) *p[l] = Vec3(a.x[l], a.y[l], a.z[l]);
+}
+
+template <bool kEnergy>
+[[gnu::target("avx"), gnu::flatten]] void hertz_mindlin_x4_avx(const HertzMindlin& law, FastState& s, PairEntry* entries,
+                                                                const std::uint32_t* contacts, std::size_t count, double dt) {
+  // The law's constants, each the scalar code's first product (contact_law.hpp).
+  const D4 hertz_factor = broadcast(4.0 / 3.0 * law.effective_young());   // 4/3 E* [Pa]; K = this sqrt(R*)
+  const D4 mindlin_factor = broadcast(8.0 * law.effective_shear());       // 8 G* [Pa]; k_t = this sqrt(R* delta)
+  const D4 alpha = broadcast(law.damping_ratio());                         // Tsuji's alpha(e) [-]
+  const D4 mu = broadcast(law.friction());                                 // [-]
+  const D4 step = broadcast(dt);                                           // [s]
+  const D4 zero = broadcast(0.0);
+  const D4 half = broadcast(0.5);
+  for (std::size_t first = 0; first < count; first += 4) {
+    // Four contacts; a short last group repeats its last contact (same inputs, same outputs
+    // written twice).
+    PairEntry* entry[4];
+    std::uint32_t i[4], j[4];
+    TangentialSpring* spring[4];
+    PairResult* result[4];
+    for (std::size_t l = 0; l < 4; ++l) {
+      const std::size_t k = first + l < count ? first + l : count - 1;
+      entry[l] = &entries[contacts[k]];
+      i[l] = entry[l]->i;
+      j[l] = entry[l]->j;
+      spring[l] = &s.spring_at(entry[l]->code);
+      result[l] = &s.result_at(entry[l]->code);
+    }
+    // Kinematics (force_kernel.cpp, the pair evaluation).
+    const D4 ri = gather(s.radius, i);
+    const D4 rj = gather(s.radius, j);
+    const V4 d = gather(s.x, i) - gather(s.x, j);          // from j to i [m]
+    const D4 distance = sqrt4(dot(d, d));                   // d.norm()
+    const V4 n = d / distance;                              // unit normal, j -> i
+    const D4 overlap = (ri + rj) - distance;                // delta [m]
+    const V4 r_i = -(ri - half * overlap) * n;              // branch vectors [m]
+    const V4 r_j = (rj - half * overlap) * n;
+    const V4 wi = gather(s.w, i);
+    const V4 wj = gather(s.w, j);
+    const V4 relative_velocity = (gather(s.pv, i) + cross(gather(s.pw, i), r_i)) - (gather(s.pv, j) + cross(gather(s.pw, j), r_j));
+    const V4 vi = gather(s.v, i);
+    const V4 vj = gather(s.v, j);
+    const V4 displacement = step * ((vi + cross(wi, r_i)) - (vj + cross(wj, r_j)));  // ds [m]
+    const D4 mi = gather(s.mass, i);
+    const D4 mj = gather(s.mass, j);
+    const D4 m_eff = mi * mj / (mi + mj);  // pair_value [kg]
+    const D4 r_eff = ri * rj / (ri + rj);  // [m]
+    // The springs.
+    const Vec3* xi_p[4];
+    const Vec3* bi_p[4];
+    const Vec3* bj_p[4];
+    for (int l = 0; l < 4; ++l) {
+      xi_p[l] = &spring[l]->displacement;
+      bi_p[l] = &spring[l]->branch_i;
+      bj_p[l] = &spring[l]->branch_j;
+    }
+    const V4 xi_previous = gather(xi_p);
+    const D4 k_old = D4{spring[0]->stiffness, spring[1]->stiffness, spring[2]->stiffness, spring[3]->stiffness};
+    V4 displacement_previous_arms{};
+    if constexpr (kEnergy) {
+      displacement_previous_arms = step * ((vi + cross(wi, gather(bi_p))) - (vj + cross(wj, gather(bj_p))));
+    }
+
+    // normal_contact_force with HertzMindlin::normal_force / elastic_force / elastic_energy.
+    const D4 delta_dot = -dot(relative_velocity, n);      // approach speed [m/s]
+    const D4 stiffness = hertz_factor * sqrt4(r_eff);      // hertz_constant K [N/m^1.5]
+    const D4 eta = alpha * sqrt4(m_eff * stiffness);
+    const D4 root_delta = sqrt4(overlap);
+    const D4 f = stiffness * overlap * root_delta + eta * sqrt4(root_delta) * delta_dot;
+    const D4 f_n = select(f > zero, f, zero);               // no attraction [N]
+    const D4 f_elastic = stiffness * overlap * root_delta;
+    V4 force = f_n * n;                                     // out.on_i
+    D4 elastic{};
+    D4 dissipated{};
+    if constexpr (kEnergy) {
+      elastic = broadcast(0.4) * stiffness * overlap * overlap * root_delta;
+      dissipated = (f_n - f_elastic) * delta_dot * step;
+    }
+
+    // frictional_contact_force: 1. rotate the history onto the tangent plane.
+    const D4 f_normal = dot(force, n);
+    const D4 length = sqrt4(dot(xi_previous, xi_previous));
+    const V4 projected_xi = xi_previous - dot(xi_previous, n) * n;
+    const D4 projected = sqrt4(dot(projected_xi, projected_xi));
+    const D4 rescale = length / projected;  // 0/0 in lanes with projected = 0: not selected
+    const auto rotate = projected > zero;
+    const V4 xi_rotated{select(rotate, projected_xi.x * rescale, projected_xi.x),
+                        select(rotate, projected_xi.y * rescale, projected_xi.y),
+                        select(rotate, projected_xi.z * rescale, projected_xi.z)};
+    // 2. Trial state and Mindlin stiffness.
+    const V4 sliding = displacement - dot(displacement, n) * n;  // ds_t
+    const V4 xi_trial = xi_rotated + sliding;
+    const D4 k_t = mindlin_factor * sqrt4(r_eff * overlap);
+    // 3. Spring force and Coulomb cap.
+    V4 f_t = -k_t * xi_trial;
+    const D4 cap = mu * select(f_normal > zero, f_normal, zero);
+    const D4 f_t_norm = sqrt4(dot(f_t, f_t));
+    const auto slip = f_t_norm > cap;
+    const D4 scale = cap / f_t_norm;
+    f_t = V4{select(slip, f_t.x * scale, f_t.x), select(slip, f_t.y * scale, f_t.y), select(slip, f_t.z * scale, f_t.z)};
+    const V4 xi_new{select(slip, xi_trial.x * scale, xi_trial.x), select(slip, xi_trial.y * scale, xi_trial.y),
+                    select(slip, xi_trial.z * scale, xi_trial.z)};
+    if constexpr (kEnergy) {
+      dissipated = dissipated + -half * (k_t - k_old) * dot(xi_rotated, xi_trial);
+      dissipated = dissipated + half * k_t * dot(xi_trial - xi_new, xi_rotated + xi_new);
+      dissipated = dissipated + half * k_old * (dot(xi_previous, displacement_previous_arms) - dot(xi_rotated, displacement));
+    }
+    force = force + f_t;
+    if constexpr (kEnergy) elastic = elastic + half * k_t * dot(xi_new, xi_new);  // spring.stored_energy()
+
+    // Stores: the spring, the pair result, the entry.
+    const V4 torque_i = cross(r_i, force);
+    const V4 torque_j = cross(r_j, force);
+    Vec3* out[4];
+    for (int l = 0; l < 4; ++l) out[l] = &spring[l]->displacement;
+    scatter(xi_new, out);
+    for (int l = 0; l < 4; ++l) out[l] = &spring[l]->branch_i;
+    scatter(r_i, out);
+    for (int l = 0; l < 4; ++l) out[l] = &spring[l]->branch_j;
+    scatter(r_j, out);
+    for (int l = 0; l < 4; ++l) out[l] = &result[l]->force;
+    scatter(force, out);
+    for (int l = 0; l < 4; ++l) out[l] = &result[l]->torque_i;
+    scatter(torque_i, out);
+    for (int l = 0; l < 4; ++l) out[l] = &result[l]->torque_j;
+    scatter(torque_j, out);
+    for (int l = 0; l < 4; ++l) {
+      spring[l]->stiffness = k_t[l];
+      entry[l]->overlap = overlap[l];
+      if constexpr (kEnergy) {
+        entry[l]->elastic = elastic[l];
+        entry[l]->dissipated = dissipated[l];
+      }
+    }
+  }
+}
+
+}  // namespace
+
+bool x4_contacts_available() {
+  static const bool available = __builtin_cpu_supports("avx") != 0;
+  return available;
+}
+
+template <bool kEnergy>
+void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
+                      std::size_t count, double dt) {
+  hertz_mindlin_x4_avx<kEnergy>(law, s, entries, contacts, count, dt);
+}
+
+#else  // not x86-64 with GCC: never available, never called
+
+bool x4_contacts_available() { return false; }
+
+template <bool kEnergy>
+void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t, double) {}
+
+#endif
+
+template void hertz_mindlin_x4<true>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
+                                     double);
+template void hertz_mindlin_x4<false>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
+                                      double);
+
+}  // namespace ppohdem::dem::fast

@@ -1,0 +1,32 @@
+#pragma once
+// Hertz-Mindlin contacts with tangential history, four at a time (AVX, 4 doubles per register).
+// Private to core/src/dem/fast. The formulas are those of ppohdem/dem/contact_force.hpp and
+// ppohdem/dem/contact_law.hpp, written lane-wise with the same operations in the same order:
+// IEEE addition, multiplication, division and square root are correctly rounded in every lane
+// exactly as in scalar code, and no FMA is used (the target is "avx" without "fma"), so every
+// lane's result is bitwise the scalar evaluation's (tested: FastEngine.VectorContactsAreBitwise*
+// and the fast-against-reference tests, which run this path on an AVX machine).
+//
+// Why by hand: the contact law is branch-free apart from three selections (f_n > 0, a nonzero
+// tangential projection, Coulomb slip), which become lane masks; GCC does not vectorize across
+// the contacts of a gathered list by itself. Measured on the 10,000-particle settled bed: see
+// docs/performance.md "Four contacts at a time".
+#include "fast_state.hpp"
+#include "ppohdem/dem/contact_law.hpp"
+
+namespace ppohdem::dem::fast {
+
+/// True if this CPU runs the AVX path (checked once; false off x86-64).
+bool x4_contacts_available();
+
+/// Evaluates the contacts entries[contacts[k]], k < count, of one Hertz-Mindlin law (one
+/// material), four at a time: the relative kinematics from the particles' state in `s`, the
+/// normal force, the tangential spring update (each contact's spring in s.spring_at(code)),
+/// the pair result (s.result_at(code): force on i and both torques) and the entry's overlap;
+/// with kEnergy also its elastic and dissipated energy (contact_force.hpp). `dt` is the history
+/// increment interval [s]. Requires x4_contacts_available().
+template <bool kEnergy>
+void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
+                      std::size_t count, double dt);
+
+}  // namespace ppohdem::dem::fast
