@@ -6,7 +6,7 @@
 # offers) and by LIGGGHTS, LAMMPS (GRANULAR) and YADE, each on 1 and 2 cores, in this one script.
 #
 #   bash ci/bench-dem.sh [--quick] [--build-dir DIR] [--out DIR] [--codes "ours liggghts lammps yade"]
-#                        [--sizes "N:STEPS ..."] [--engines "reference fast"] [--repeat K]
+#                        [--sizes "N:STEPS ..."] [--engines "reference fast"] [--repeat K] [--untracked]
 #
 #   --quick   10,000 particles x 10,000 steps only (< 20 min on the 2-core VM)
 #   default   10,000 particles x 10,000 steps and 100,000 particles x 300 steps (< 30 min)
@@ -17,6 +17,8 @@
 # and integration, not the contact law; docs/performance.md reports both. The 100,000 x 300
 # run (free fall) gives the memory per particle and the scaling with N.
 #   --engines  the ppohdem engines to run (default: every one `ppohdem simulate --help` lists)
+#   --untracked also run every ppohdem engine with `[simulation] energy_balance = false` (no
+#              contact energy book-keeping, which none of the peers does), as "<engine>-untracked"
 #   --repeat K run every code K times, interleaved (all codes once, then all again, ...), and
 #              add a table of the best and median loop times and their ratios: on a shared or
 #              virtual machine single runs of one binary vary by up to 1.4x here
@@ -44,6 +46,7 @@ CODES="ours liggghts lammps yade"
 SIZES_ARG=""
 ENGINES_ARG=""
 REPEAT=1
+UNTRACKED=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
@@ -53,6 +56,7 @@ while [ $# -gt 0 ]; do
     --sizes) SIZES_ARG=$2; shift ;;
     --engines) ENGINES_ARG=$2; shift ;;
     --repeat) REPEAT=$2; shift ;;
+    --untracked) UNTRACKED=1 ;;
     *) echo "bench-dem: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -127,8 +131,9 @@ run_peer() {  # code N steps cores case_dir
   cd "$ROOT"
 }
 
-run_ours() {  # engine N steps case_dir
-  local engine=$1 n=$2 steps=$3 case_dir=$4 cores mode dir loop
+run_ours() {  # engine N steps case_dir [untracked]
+  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} cores mode dir loop label=$1
+  [ -n "$untracked" ] && label="$engine-untracked"
   for cores in 1 2; do
     for mode in threads ranks; do
       [ "$cores" -eq 1 ] && [ "$mode" = ranks ] && continue
@@ -137,10 +142,12 @@ run_ours() {  # engine N steps case_dir
           "$engine" "$n" "$steps" | tee -a "$RESULTS"
         continue
       fi
-      dir="$case_dir/ppohdem-$engine-$cores-$mode"
+      dir="$case_dir/ppohdem-$label-$cores-$mode"
       rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
       sed "s|^file = \"particles.csv\"|file = \"$case_dir/particles.csv\"|; s|^dir = \"ours_out\"|dir = \"$dir/out\"|" \
         "$case_dir/scene.toml" >scene.toml
+      # --untracked: no contact energy book-keeping, which the peers do not do either.
+      [ -n "$untracked" ] && sed -i 's|^\[simulation\]$|[simulation]\nenergy_balance = false|' scene.toml
       local cmd="$TIMEV $PPOHDEM simulate scene.toml --engine $engine --quiet"
       local ok=0
       if [ "$mode" = threads ]; then
@@ -157,9 +164,9 @@ run_ours() {  # engine N steps case_dir
         cd "$ROOT"; continue
       fi
       if [ "$ok" -eq 1 ] && [ -n "$loop" ]; then
-        record "ppohdem-$engine ($mode)" "$n" "$cores" "$steps" "$loop" "$dir" "$dir/out/final.csv"
+        record "ppohdem-$label ($mode)" "$n" "$cores" "$steps" "$loop" "$dir" "$dir/out/final.csv"
       else
-        printf 'ppohdem-%s (%s)\t%s\t%s\t%s\tfailed: see %s/out.txt\n' "$engine" "$mode" "$n" "$cores" "$steps" "$dir" | tee -a "$RESULTS"
+        printf 'ppohdem-%s (%s)\t%s\t%s\t%s\tfailed: see %s/out.txt\n' "$label" "$mode" "$n" "$cores" "$steps" "$dir" | tee -a "$RESULTS"
       fi
       cd "$ROOT"
     done
@@ -176,7 +183,10 @@ for spec in "${SIZES[@]}"; do
     echo "bench-dem: N = $n, $steps steps (dt = 8.65e-6 s), round $rep of $REPEAT, load: $(uptime)" >&2
     for code in $CODES; do
       case "$code" in
-        ours) for e in "${ENGINES[@]}"; do run_ours "$e" "$n" "$steps" "$case_dir"; done ;;
+        ours) for e in "${ENGINES[@]}"; do
+                run_ours "$e" "$n" "$steps" "$case_dir"
+                [ "$UNTRACKED" -eq 1 ] && run_ours "$e" "$n" "$steps" "$case_dir" untracked
+              done ;;
         liggghts|lammps|yade)
           exe=$code; [ "$code" = lammps ] && exe=lmp
           if ! command -v "$exe" >/dev/null 2>&1; then echo "bench-dem: $exe not installed, skipped" >&2; continue; fi
@@ -189,7 +199,7 @@ done
 
 {
   echo "Measured $(date -u '+%Y-%m-%d %H:%M UTC') on $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')),"
-  echo "command: \`bash ci/bench-dem.sh$([ "$QUICK" -eq 1 ] && echo ' --quick')$([ "$REPEAT" -gt 1 ] && echo " --repeat $REPEAT")\`; load at start: ${LOAD_START##*load average: }, at end: $(uptime | sed 's/.*load average: //')."
+  echo "command: \`bash ci/bench-dem.sh$([ "$QUICK" -eq 1 ] && echo ' --quick')$([ "$REPEAT" -gt 1 ] && echo " --repeat $REPEAT")$([ "$UNTRACKED" -eq 1 ] && echo " --untracked")\`; load at start: ${LOAD_START##*load average: }, at end: $(uptime | sed 's/.*load average: //')."
   echo
   echo "| code | N | cores | steps | loop [s] | particle-steps/s (wall) | particle-steps/s (CPU) | peak RSS [MB] | bytes/particle | final state: KE [J], mean z [m], max overlap/d, contacts/particle |"
   echo "|---|---|---|---|---|---|---|---|---|---|"
