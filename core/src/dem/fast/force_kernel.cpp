@@ -52,8 +52,9 @@ inline bool has_history(const TangentialSpring& s) {
 /// The result of the pair whose code is `code`, or a zero result for kNoSpring: both
 /// addresses are formed and one is selected by masks (GCC turns the plain conditional
 /// expression into a branch, measured with callgrind --branch-sim).
+const PairResult kZero{};  // at namespace scope: no initialisation guard tested per slot (perf)
+
 inline const PairResult& result_or_zero(const FastState& s, std::uint32_t code) {
-  static const PairResult kZero{};
   const std::uint32_t none = 0u - static_cast<std::uint32_t>(code == kNoSpring);  // all ones or 0
   const std::uint32_t valid = code & ~none;  // kNoSpring -> pool 0, index 0: an address, not read
   const auto found = reinterpret_cast<std::uintptr_t>(
