@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -64,30 +65,40 @@ void expect_bound_below_brute_force(const char* name, double offset, double min_
     ASSERT_EQ(tree.nearest(p).squared_distance, all) << name;
     ASSERT_EQ(tree.nearest(p, pick(rng)).squared_distance, all) << name;
     ASSERT_EQ(aligned_tree.nearest(p, pick(rng)).squared_distance, all) << name;
-    // Packets (TriangleTree::nearest_packet): 2 x 2 neighbours of p (as the grid rows are
-    // queried) and, in the packets of 3 and 4, one point anywhere (paths that part early); each
-    // point's result must be its brute-force minimum and the lowest index among equally near
-    // triangles (the tie rule of every traversal), with AVX and with SSE2, whatever the hints.
+    // Packets (TriangleTree::nearest_packet): 4 x 2 neighbours of p (as the grid rows are
+    // queried) and, from the packets of 3 points on, one point anywhere (paths that part early);
+    // each point's result must be its brute-force minimum and the lowest index among equally
+    // near triangles (the tie rule of every traversal), with AVX-512 (8 points per traversal),
+    // AVX (4) and SSE2 (2 lanes), whatever the hints and the packet's size.
     const double step = 0.02 * half.norm();
-    const Vec3 points[4] = {p, p + Vec3(0.0, step, 0.0), p + Vec3(0.0, 0.0, step),
-                            centre + Vec3(unit(rng) * half.x(), unit(rng) * half.y(), unit(rng) * half.z())};
-    std::pair<double, std::uint32_t> expected[4];
-    for (int c = 0; c < 4; ++c) {
+    constexpr int kPacket = fast::TriangleTree::kPacket;
+    static_assert(kPacket == 8);
+    Vec3 points[kPacket];
+    for (int c = 0; c < kPacket; ++c) {
+      points[c] = p + Vec3(0.0, step * (c % 2 + 2 * (c / 4)), step * ((c / 2) % 2));
+    }
+    points[2] = centre + Vec3(unit(rng) * half.x(), unit(rng) * half.y(), unit(rng) * half.z());
+    if (q % 4 == 1) points[6] = centre + Vec3(unit(rng) * half.x(), unit(rng) * half.y(), unit(rng) * half.z());
+    std::pair<double, std::uint32_t> expected[kPacket];
+    for (int c = 0; c < kPacket; ++c) {
       expected[c] = {std::numeric_limits<double>::infinity(), 0};
       for (std::uint32_t s = 0; s < triangles.size(); ++s) {
         const double d2 = fast::squared_distance(points[c], triangles[s]);
         if (d2 < expected[c].first) expected[c] = {d2, s};
       }
     }
-    for (int count = 1; count <= fast::TriangleTree::kPacket; ++count) {
-      for (const bool avx : {true, false}) {
-        std::int64_t hints[4];
+    using Simd = fast::TriangleTree::PacketSimd;
+    for (int count = 1; count <= kPacket; ++count) {
+      for (const Simd simd : {Simd::best, Simd::avx512, Simd::avx, Simd::sse2}) {
+        std::int64_t hints[kPacket];
         for (std::int64_t& h : hints) h = q % 3 == 0 ? -1 : static_cast<std::int64_t>(pick(rng));
-        fast::TriangleTree::Nearest found[4];
-        tree.nearest_packet(points, hints, count, found, avx);
+        fast::TriangleTree::Nearest found[kPacket];
+        tree.nearest_packet(points, hints, count, found, simd);
         for (int c = 0; c < count; ++c) {
-          ASSERT_EQ(found[c].squared_distance, expected[c].first) << name << " packet " << count << " point " << c;
-          ASSERT_EQ(found[c].triangle, expected[c].second) << name << " packet " << count << " point " << c;
+          ASSERT_EQ(found[c].squared_distance, expected[c].first)
+              << name << " packet " << count << " point " << c << " simd " << static_cast<int>(simd);
+          ASSERT_EQ(found[c].triangle, expected[c].second)
+              << name << " packet " << count << " point " << c << " simd " << static_cast<int>(simd);
         }
       }
     }
@@ -120,6 +131,17 @@ TEST(FastSdfTree, NodeLowerBoundNeverExceedsBruteForceDistance) {
   expect_bound_below_brute_force("fandisk.stl", 0.0, 0.01);
   expect_bound_below_brute_force("icosphere.stl", 0.0, 0.01);
   expect_bound_below_brute_force("box.stl", 0.0, 0.0);
+}
+
+TEST(FastSdfTree, PacketInstructionSetsOfThisCpu) {
+  // The checks above run every requested instruction set, but one the CPU lacks falls back to the
+  // next narrower: say which were really exercised here.
+  using Simd = fast::TriangleTree::PacketSimd;
+  const Simd available = fast::TriangleTree::packet_simd_available();
+  const char* name = available == Simd::avx512 ? "AVX-512, AVX, SSE2" : available == Simd::avx ? "AVX, SSE2" : "SSE2";
+  std::printf("packet traversals exercised on this CPU: %s\n", name);
+  RecordProperty("packet_simd", name);
+  EXPECT_NE(available, Simd::best);
 }
 
 TEST(FastSdfTree, NodeLowerBoundHoldsForAMeshOffsetByAMillion) {

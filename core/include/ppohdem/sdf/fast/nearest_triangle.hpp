@@ -41,6 +41,17 @@
 /// dropped: the binary tree collapsed into 4-wide nodes (children's oriented boxes in one AVX
 /// pass): 2.07e9 -> 1.89e9 instructions but no faster in time (lower IPC).
 ///
+/// Lanes (2026-12-02): one point per SIMD lane, 8 points (4 x 2 rows) per traversal in AVX-512,
+/// 4 in AVX (an 8-point packet then takes two traversals of 2 x 2). Both children's bounds of all
+/// points are whole-register operations, the masks of the points within their bounds are register
+/// compares, a pending node keeps one register of bounds (NaN where a point is not active), a
+/// lowered bound is blended into its lane (reloading it from memory stalled on the store), and the
+/// distances to a regular triangle of 2 or more points within its box are computed in lanes
+/// (Ericson's regions in the scalar order, each lane taking the first that holds). Every lane does
+/// the scalar code's operations without FMA (nearest_triangle.cpp is compiled with
+/// -ffp-contract=off), so the results are unchanged bit for bit. Measured (dragon 128^3, 1
+/// thread): see docs/performance.md, "Lanes of 8 grid nodes".
+///
 /// Split: with oriented boxes, a binned surface-area heuristic (32 bins; measured 2026-12-01,
 /// dragon 64^3, 1 thread, callgrind: 2.42e9 -> 2.07e9 instructions in the queries, results
 /// unchanged bit for bit); without (band mode), the median of the centroids along their longest
@@ -119,17 +130,21 @@ class TriangleTree {
   /// Nearest triangle to p. `hint` (an index into triangles(), or -1) is evaluated first and
   /// only speeds the search up; the result does not depend on it.
   Nearest nearest(const Vec3& p, std::int64_t hint = -1) const;
-  /// Points per packet of nearest_packet().
-  static constexpr int kPacket = 4;
+  /// Points per packet of nearest_packet() at most.
+  static constexpr int kPacket = 8;
+  /// The instruction sets of nearest_packet(), widest first; `best`: the widest the CPU has.
+  enum class PacketSimd { best, avx512, avx, sse2 };
+  /// The widest of them this CPU runs (checked at run time).
+  static PacketSimd packet_simd_available();
   /// nearest(p[c], hint[c]) for c < count <= kPacket in one traversal of the tree: a node is
   /// opened while it is within the bound of one of the points still active in it, and each
   /// point's bounds, triangle tests and minimum are its own, so out[c] is nearest(p[c]) bit for
   /// bit. For neighbouring points (grid nodes) the paths nearly coincide; the points' box
-  /// distances are independent arithmetic within one visit (4 points: two passes of AVX where
-  /// the CPU has it, else SSE2), and the branches are taken once per packet. `allow_avx` false:
-  /// the SSE2 code whatever the CPU (tests).
+  /// distances are independent arithmetic within one visit (one point per lane: 8 in AVX-512, 4 in
+  /// AVX, so more points take two traversals; SSE2: 2 lanes), and the branches are taken once per
+  /// packet. `simd`: the widest instruction set to use (tests; the CPU's own limit applies too).
   void nearest_packet(const Vec3* p, const std::int64_t* hint, int count, Nearest* out,
-                      bool allow_avx = true) const;
+                      PacketSimd simd = PacketSimd::best) const;
 
   /// Appends to `out` the index (into triangles()) of every triangle whose own bounding box is
   /// within sqrt(bound_squared) of the box [lo, hi] (box-to-box distance, computed in double;
