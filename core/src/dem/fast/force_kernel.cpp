@@ -67,6 +67,28 @@ inline const PairResult& result_or_zero(const FastState& s, std::uint32_t code) 
 /// harmonic_pair (material.cpp) for finite values, inline: a b / (a + b), symmetric in a, b.
 inline double pair_value(double a, double b) { return a * b / (a + b); }
 
+/// The kinematics of touching particles i and j with d = x_i - x_j (the reference's
+/// expressions, force_passes.hpp): normal, overlap, the contact's branch vectors r_i, r_j and
+/// the relative velocity at the evaluation time (not the step's displacement).
+struct PairKinematics {
+  ContactKinematics k;
+  Vec3 r_i, r_j;  ///< centre of i (of j) to the contact point [m]
+};
+inline PairKinematics pair_kinematics(const FastState& s, std::size_t i, std::size_t j, const Vec3& d) {
+  const double ri = s.radius[i];
+  const double distance = d.norm();
+  PairKinematics p;
+  ContactKinematics& k = p.k;
+  k.normal = d / distance;
+  k.overlap = ri + s.radius[j] - distance;
+  p.r_i = -(ri - 0.5 * k.overlap) * k.normal;
+  p.r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
+  k.relative_velocity = (s.pv[i] + s.pw[i].cross(p.r_i)) - (s.pv[j] + s.pw[j].cross(p.r_j));
+  k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
+  k.pair.r_eff = pair_value(ri, s.radius[j]);
+  return p;
+}
+
 // kEnergy false ([simulation] energy_balance = false): no contact energy terms at all (the
 // previous-arms displacement, elastic energy, the dissipation and boundary-work terms); the
 // forces, torques and histories are the same bit for bit (measured: 10 % of the settled bed).
@@ -96,18 +118,11 @@ class Kernel final : public ForceKernel {
       PairEntry& entry = entries[contacts[c]];
       const std::size_t i = entry.i;
       const std::uint32_t j = entry.j;
-      const double ri = s.radius[i];
-      const Vec3 d = s.x[i] - s.x[j];  // from j to i
-      const double distance = d.norm();
-      ContactKinematics k;
-      k.normal = d / distance;
-      k.overlap = ri + s.radius[j] - distance;
-      const Vec3 r_i = -(ri - 0.5 * k.overlap) * k.normal;
-      const Vec3 r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
-      k.relative_velocity = (s.pv[i] + s.pw[i].cross(r_i)) - (s.pv[j] + s.pw[j].cross(r_j));
+      PairKinematics p = pair_kinematics(s, i, j, s.x[i] - s.x[j]);
+      ContactKinematics& k = p.k;
+      const Vec3& r_i = p.r_i;
+      const Vec3& r_j = p.r_j;
       k.relative_displacement = dt * ((s.v[i] + s.w[i].cross(r_i)) - (s.v[j] + s.w[j].cross(r_j)));
-      k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
-      k.pair.r_eff = pair_value(ri, s.radius[j]);
       TangentialSpring& sp = s.spring_at(entry.code);
       if constexpr (kEnergy) {  // the energy terms' only use
         k.relative_displacement_previous_arms =
@@ -427,18 +442,11 @@ class Kernel final : public ForceKernel {
             const Vec3 d = xi - s.x[j];  // from j to i
             const double reach = ri + s.radius[j];
             if (!(d.squaredNorm() < reach * reach)) continue;
-            const double distance = d.norm();
-            ContactKinematics k;
-            k.normal = d / distance;
-            k.overlap = ri + s.radius[j] - distance;
-            const Vec3 r_i = -(ri - 0.5 * k.overlap) * k.normal;
-            const Vec3 r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
-            k.relative_velocity = (s.pv[i] + s.pw[i].cross(r_i)) - (s.pv[j] + s.pw[j].cross(r_j));
-            k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
-            k.pair.r_eff = pair_value(ri, s.radius[j]);
+            const PairKinematics p = pair_kinematics(s, i, j, d);
+            const ContactKinematics& k = p.k;
             const ContactForce f = normal_contact_force(pair_law(s, i, j), k, dt);
             force += f.on_i;
-            torque += r_i.cross(f.on_i);
+            torque += p.r_i.cross(f.on_i);
             if (upper) {
               if constexpr (kEnergy) {
                 elastic += f.elastic_energy;
