@@ -54,8 +54,10 @@ PPOHDEM_LANES V4 gather(const std::vector<Vec3>& base, const std::uint32_t* inde
   const Vec3* p[4] = {&base[index[0]], &base[index[1]], &base[index[2]], &base[index[3]]};
   return gather(p);
 }
-PPOHDEM_LANES void scatter(const V4& a, Vec3* const* p) {
-  for (int l = 0; l < 4; ++l) *p[l] = Vec3(a.x[l], a.y[l], a.z[l]);
+/// object[l]->*member = lane l of a.
+template <class Object>
+PPOHDEM_LANES void scatter(const V4& a, Object* const* object, Vec3 Object::*member) {
+  for (int l = 0; l < 4; ++l) object[l]->*member = Vec3(a.x[l], a.y[l], a.z[l]);
 }
 
 template <bool kEnergy>
@@ -169,19 +171,12 @@ template <bool kEnergy>
     // Stores: the spring, the pair result, the entry.
     const V4 torque_i = cross(r_i, force);
     const V4 torque_j = cross(r_j, force);
-    Vec3* out[4];
-    for (int l = 0; l < 4; ++l) out[l] = &spring[l]->displacement;
-    scatter(xi_new, out);
-    for (int l = 0; l < 4; ++l) out[l] = &spring[l]->branch_i;
-    scatter(r_i, out);
-    for (int l = 0; l < 4; ++l) out[l] = &spring[l]->branch_j;
-    scatter(r_j, out);
-    for (int l = 0; l < 4; ++l) out[l] = &result[l]->force;
-    scatter(force, out);
-    for (int l = 0; l < 4; ++l) out[l] = &result[l]->torque_i;
-    scatter(torque_i, out);
-    for (int l = 0; l < 4; ++l) out[l] = &result[l]->torque_j;
-    scatter(torque_j, out);
+    scatter(xi_new, spring, &TangentialSpring::displacement);
+    scatter(r_i, spring, &TangentialSpring::branch_i);
+    scatter(r_j, spring, &TangentialSpring::branch_j);
+    scatter(force, result, &PairResult::force);
+    scatter(torque_i, result, &PairResult::torque_i);
+    scatter(torque_j, result, &PairResult::torque_j);
     for (int l = 0; l < 4; ++l) {
       spring[l]->stiffness = k_t[l];
       entry[l]->overlap = overlap[l];
