@@ -331,10 +331,7 @@ class Kernel final : public ForceKernel {
           s.f[i] = force;
           s.t[i] = torque;
         }
-        s.elastic_p[i] = elastic;
-        s.dissipated_p[i] = dissipated;
-        s.work_p[i] = work;
-        s.power_p[i] = power;
+        s.terms[i] = {elastic, dissipated, work, power};
         if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
       };
       if constexpr (kHalf) {

@@ -22,6 +22,9 @@ class Packer {
       raw(&value, sizeof value);
     } else if constexpr (std::is_same_v<T, Vec3>) {
       raw(value.data(), 3 * sizeof(double));
+    } else if constexpr (requires { typename T::packed_as_bytes; }) {  // a record of doubles
+      static_assert(std::is_trivially_copyable_v<T>);
+      raw(&value, sizeof value);
     } else {
       static_assert(std::is_same_v<T, TangentialSpring>, "Packer: no rule for this type");
       put(value.displacement);
@@ -49,6 +52,9 @@ class Unpacker {
       raw(&value, sizeof value);
     } else if constexpr (std::is_same_v<T, Vec3>) {
       raw(value.data(), 3 * sizeof(double));
+    } else if constexpr (requires { typename T::packed_as_bytes; }) {
+      static_assert(std::is_trivially_copyable_v<T>);
+      raw(&value, sizeof value);
     } else {
       static_assert(std::is_same_v<T, TangentialSpring>, "Unpacker: no rule for this type");
       get(value.displacement);
