@@ -503,7 +503,7 @@ struct FastEngine::Impl {
     const std::size_t n = s.owned;
     if (s.friction) {
       s.spring_of.assign(s.partner.size(), kNoSpring);
-      s.spring_pools.assign(1, {});
+      s.spring_pools.assign(1, std::vector<TangentialSpring>(1));  // entry 0: kNoSpring's
       s.pool_shift = 31;
       for (std::size_t k = 0; k < n; ++k) {
         std::uint32_t a = h.first[k];

@@ -238,7 +238,10 @@ struct FastState {
 };
 
 inline constexpr std::uint32_t kNotHere = 0xffffffffu;  ///< `where` of a particle owned elsewhere
-inline constexpr std::uint32_t kNoSpring = 0xffffffffu;  ///< spring_of of a slot without history
+/// spring_of of a slot without history: the code of pool 0's first entry, a spring never used
+/// whose result stays zero, so the force kernel's sums read a zero result for a slot without
+/// contact without testing for one (force_kernel.cpp, "Each pair once").
+inline constexpr std::uint32_t kNoSpring = 0u;
 inline constexpr std::uint32_t kNoMirror = 0xffffffffu;  ///< mirror of a slot whose partner is a ghost
 
 /// Threads of the force kernel for `owned` particles (one below kParallelMin).
@@ -322,7 +325,7 @@ inline void lay_out_springs(FastState& s, int threads) {
                             " neighbour slots on one rank exceed the spring index range (2^" + std::to_string(shift) +
                             "); run with more MPI ranks");
   }
-  std::vector<TangentialSpring> packed;
+  std::vector<TangentialSpring> packed(1);  // the entry of kNoSpring
   std::vector<std::uint32_t> codes(s.partner.size(), kNoSpring);
   if (s.spring_of.size() == s.partner.size()) {
     for (std::size_t slot = 0; slot < codes.size(); ++slot) {

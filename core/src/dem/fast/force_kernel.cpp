@@ -49,20 +49,10 @@ inline bool has_history(const TangentialSpring& s) {
          s.displacement.z() != 0.0;
 }
 
-/// The result of the pair whose code is `code`, or a zero result for kNoSpring: both
-/// addresses are formed and one is selected by masks (GCC turns the plain conditional
-/// expression into a branch, measured with callgrind --branch-sim).
-const PairResult kZero{};  // at namespace scope: no initialisation guard tested per slot (perf)
-
-inline const PairResult& result_or_zero(const FastState& s, std::uint32_t code) {
-  const std::uint32_t none = 0u - static_cast<std::uint32_t>(code == kNoSpring);  // all ones or 0
-  const std::uint32_t valid = code & ~none;  // kNoSpring -> pool 0, index 0: an address, not read
-  const auto found = reinterpret_cast<std::uintptr_t>(
-      s.result_pools[valid >> s.pool_shift].data() + (valid & ((std::uint32_t{1} << s.pool_shift) - 1)));
-  const auto zero = reinterpret_cast<std::uintptr_t>(&kZero);
-  const std::uintptr_t pick = 0u - static_cast<std::uintptr_t>(none & 1u);
-  return *reinterpret_cast<const PairResult*>(found ^ ((found ^ zero) & pick));
-}
+/// The result of the pair whose code is `code`; for kNoSpring the never-written zero result of
+/// pool 0's first entry (fast_state.hpp), so a slot without contact needs no test (GCC turns a
+/// test into a branch, which mispredicts: callgrind --branch-sim).
+inline const PairResult& result_or_zero(const FastState& s, std::uint32_t code) { return s.result_at(code); }
 
 /// harmonic_pair (material.cpp) for finite values, inline: a b / (a + b), symmetric in a, b.
 inline double pair_value(double a, double b) { return a * b / (a + b); }
