@@ -756,16 +756,15 @@ struct FastEngine::Impl {
       BoundaryLoad* to = block_loads.data() + b * nb;
       for (std::size_t o = b * kSumBlock; o < std::min(total, (b + 1) * kSumBlock); ++o) {
         const std::size_t k = s.where[o];
-        const FastState::ContactTerms& c = s.terms[k];
+        const FastState::ParticleTerms& c = s.terms[k];
         sum[0] += c.elastic;
         sum[1] += c.dissipated;
         sum[2] += c.work;
         sum[3] += c.power;
-        if (motion) {
-          const auto m = motion_terms(k);
-          sum[4] += m[0];
-          sum[5] += m[1];
-          sum[6] += m[2];
+        if (motion) {  // written by close_step
+          sum[4] += c.kinetic;
+          sum[5] += c.rotational;
+          sum[6] += c.gravitational;
         }
         for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
           add_load(to, s.records[r].boundary, s.records[r].force, s.records[r].point);
@@ -796,17 +795,25 @@ struct FastEngine::Impl {
   }
 
   /// The second half kick v(n+1) = v(n+1/2) + a(n+1) dt/2, kept in pv, pw for the next step's
-  /// first half kick (see step()).
+  /// first half kick (see step()); with one rank also each particle's motion energy terms of the new
+  /// state (reduce_one_rank sums them in construction order, reading one line per particle).
   void close_step() {
     const double half = 0.5 * s.dt;
     const Vec3 g = s.gravity;
     const std::size_t owned = s.owned;  // changed if the build migrated particles
+    const bool one_rank = !distributed();  // reduce_one_rank sums the motion terms kept here
     PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
     for (std::size_t i = 0; i < owned; ++i) {
       s.pv[i] = half * (s.f[i] / s.mass[i] + g);  // the closing kick, kept for the next step
       s.pw[i] = half * s.t[i] / s.inertia[i];
       s.v[i] += s.pv[i];
       s.w[i] += s.pw[i];
+      if (one_rank) {
+        const std::array<double, 3> motion = motion_terms(i);
+        s.terms[i].kinetic = motion[0];
+        s.terms[i].rotational = motion[1];
+        s.terms[i].gravitational = motion[2];
+      }
     }
     kick_cached = true;
   }

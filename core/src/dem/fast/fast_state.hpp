@@ -146,17 +146,23 @@ struct FastState {
   /// moves, it is not a plane wall, or it is a fixed wall within R + skin at the build); bits
   /// exist for the first 32 boundaries, the others are always evaluated. Owned particles only.
   std::vector<std::uint32_t> near_boundaries;
-  /// Per-particle contact energy terms of the last evaluation, one 32-byte record each: the
-  /// one-rank sum visits them in construction order (a random order in storage), so one cache
-  /// line per particle instead of one per term (measured: docs/performance.md).
-  struct alignas(32) ContactTerms {  // aligned: never across two cache lines
-    double elastic = 0.0;     ///< energy stored in its contacts [J]
-    double dissipated = 0.0;  ///< dissipated this step [J]
-    double work = 0.0;        ///< boundary work this step (dashpot share) [J]
-    double power = 0.0;       ///< boundary power (F - F_d) . v_s [W]
+  /// Per-particle energy terms, one 64-byte record each (one cache line): the contact terms of
+  /// the last evaluation, and (one rank, after a step's closing kick) the particle's kinetic,
+  /// rotational and gravitational energy. The one-rank sums visit them in construction order,
+  /// a random order in storage, so one line per particle instead of one per term or array
+  /// (measured: docs/performance.md "Sums from one line per particle").
+  struct alignas(64) ParticleTerms {
+    double elastic = 0.0;        ///< energy stored in its contacts [J]
+    double dissipated = 0.0;     ///< dissipated this step [J]
+    double work = 0.0;           ///< boundary work this step (dashpot share) [J]
+    double power = 0.0;          ///< boundary power (F - F_d) . v_s [W]
+    double kinetic = 0.0;        ///< m |v|^2 / 2 [J]
+    double rotational = 0.0;     ///< I |w|^2 / 2 [J]
+    double gravitational = 0.0;  ///< -m g . x [J]
+    double unused = 0.0;         ///< (fills the line; packed like the rest)
     using packed_as_bytes = void;  ///< pack.hpp: copied as its bytes (no padding)
   };
-  std::vector<ContactTerms> terms;
+  std::vector<ParticleTerms> terms;
   // --- full neighbour list (CSR) of the owned particles, each range sorted by the partner's id;
   // partners may be ghosts ---
   std::vector<std::uint32_t> first;    ///< n + 1 offsets

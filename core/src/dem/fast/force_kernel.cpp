@@ -321,7 +321,11 @@ class Kernel final : public ForceKernel {
           s.f[i] = force;
           s.t[i] = torque;
         }
-        s.terms[i] = {elastic, dissipated, work, power};
+        FastState::ParticleTerms& terms = s.terms[i];
+        terms.elastic = elastic;
+        terms.dissipated = dissipated;
+        terms.work = work;
+        terms.power = power;
         if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
       };
       if constexpr (kHalf) {
