@@ -161,6 +161,7 @@ struct FastEngine::Impl {
   std::vector<std::array<double, 7>> block_sums;  ///< reduce_one_rank's per-block partial sums
   std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
+  std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
 
   /// Keeps the particles this rank owns (all of them on one rank).
   void load_particles(const Particles& particles) {
@@ -609,22 +610,37 @@ struct FastEngine::Impl {
       return;
     }
     // What the sums need from every rank, in ONE allgather per evaluation (with several
-    // ranks): counts, the deepest contact, the per-particle energy terms and the boundary
-    // records. Sums in construction order: independent of the cell sort (so of restarts), of
-    // the decomposition and of the thread count.
-    struct Load {
+    // ranks): counts, the deepest contact, the per-particle energy terms (after a step's
+    // closing kick with the motion terms, so energies() needs no gather of its own) and the
+    // boundary records, the tables as rows of bytes. Sums in construction order: independent
+    // of the cell sort (so of restarts), of the decomposition and of the thread count.
+    struct TermRow {  // 64 bytes: construction index and the 7 terms
+      std::uint32_t original, unused;
+      double values[7];  // elastic, dissipated, work, power, kinetic, rotational, gravitational
+    };
+    struct Load {  // a boundary record (plain arrays: sent as bytes)
       std::uint32_t original, boundary;
-      Vec3 force, point;
+      double force[3], point[3];
     };
     std::vector<Load> all_records;
-    std::vector<double> terms;  // several ranks: (elastic, dissipated, work, power) by construction index
+    std::vector<TermRow> term_rows;
     std::size_t escaped_here = 0;
     const std::size_t owned = s.owned;
     PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : escaped_here) if (owned >= kParallelMin))
     for (std::size_t k = 0; k < owned; ++k) escaped_here += s.escaped_via[k] != 0 ? 1 : 0;
-    std::array<double, 4> sums{};  // (elastic, dissipated, work, power) [J, J, J, W]
+    std::array<double, 7> sums{};  // (elastic, dissipated, work, power [J, J, J, W]; motion terms [J])
     {
-      terms.assign(total * 4, 0.0);
+      term_rows.resize(owned);
+      for (std::size_t k = 0; k < owned; ++k) {
+        const FastState::ParticleTerms& c = s.terms[k];
+        term_rows[k] = {s.original[k], 0, {c.elastic, c.dissipated, c.work, c.power, c.kinetic, c.rotational, c.gravitational}};
+      }
+      std::vector<Load> my_records(s.records.size());
+      for (std::size_t r = 0; r < s.records.size(); ++r) {
+        const BoundaryRecord& record = s.records[r];
+        my_records[r] = {s.original[record.particle], record.boundary, {record.force.x(), record.force.y(), record.force.z()},
+                         {record.point.x(), record.point.y(), record.point.z()}};
+      }
       Bytes mine;
       Packer pk(mine);
       pk.put(static_cast<std::uint64_t>(s.pair_contacts));
@@ -638,25 +654,15 @@ struct FastEngine::Impl {
         pk.put(s.deepest->id_b);
         pk.put(s.deepest->boundary);
       }
-      pk.put(static_cast<std::uint64_t>(s.owned));
-      for (std::size_t k = 0; k < s.owned; ++k) {
-        pk.put(s.original[k]);
-        pk.put(s.terms[k].elastic);
-        pk.put(s.terms[k].dissipated);
-        pk.put(s.terms[k].work);
-        pk.put(s.terms[k].power);
-      }
-      pk.put(static_cast<std::uint64_t>(s.records.size()));
-      for (const BoundaryRecord& r : s.records) {
-        pk.put(s.original[r.particle]);
-        pk.put(r.boundary);
-        pk.put(r.force);
-        pk.put(r.point);
-      }
+      pk.put(static_cast<std::uint64_t>(owned));
+      pk.put_rows(term_rows.data(), owned);
+      pk.put(static_cast<std::uint64_t>(my_records.size()));
+      pk.put_rows(my_records.data(), my_records.size());
       s.pair_contacts = 0;
       s.boundary_contacts = 0;
       escaped = 0;
       s.deepest.reset();
+      all_terms.resize(total);  // every construction index is owned by one rank: all written
       for (const Bytes& block : comm->allgather(mine)) {
         Unpacker u(block);
         s.pair_contacts += u.get<std::uint64_t>();
@@ -672,26 +678,18 @@ struct FastEngine::Impl {
           u.get(c.boundary);
           keep_deeper(s.deepest, c);
         }
-        const auto theirs = u.get<std::uint64_t>();
-        for (std::uint64_t k = 0; k < theirs; ++k) {
-          const auto o = u.get<std::uint32_t>();
-          for (int c = 0; c < 4; ++c) u.get(terms[4 * o + c]);
-        }
-        const auto records = u.get<std::uint64_t>();
-        for (std::uint64_t r = 0; r < records; ++r) {
-          Load l;
-          u.get(l.original);
-          u.get(l.boundary);
-          u.get(l.force);
-          u.get(l.point);
-          all_records.push_back(l);
-        }
+        term_rows.clear();
+        u.get_rows(term_rows, u.get<std::uint64_t>());
+        for (const TermRow& row : term_rows) std::copy(row.values, row.values + 7, all_terms[row.original].begin());
+        u.get_rows(all_records, u.get<std::uint64_t>());
       }
     }
-    sums = parallel_ordered_sum<4>(total, [&](std::size_t o) {
-      return std::array{terms[4 * o], terms[4 * o + 1], terms[4 * o + 2], terms[4 * o + 3]};
-    });
-    add_contact_sums(sums, history_dt);
+    sums = parallel_ordered_sum<7>(total, [&](std::size_t o) { return all_terms[o]; });
+    if (closing_kick) {
+      motion_sums = {sums[4], sums[5], sums[6]};
+      motion_valid = true;
+    }
+    add_contact_sums({sums[0], sums[1], sums[2], sums[3]}, history_dt);
     // Boundary loads: minus the records' forces, in (construction index, boundary) order grouped
     // in the blocks of construction indices of ordered_sum.hpp (each block from zero, then the
     // blocks in order): the same bits for one rank (blocks on the threads) and several (the
@@ -701,7 +699,10 @@ struct FastEngine::Impl {
     std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
       return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
     });
-    for (const Load& r : all_records) add_load(block_loads.data() + r.original / kSumBlock * nb, r.boundary, r.force, r.point);
+    for (const Load& r : all_records) {
+      add_load(block_loads.data() + r.original / kSumBlock * nb, r.boundary, Vec3(r.force[0], r.force[1], r.force[2]),
+               Vec3(r.point[0], r.point[1], r.point[2]));
+    }
     add_block_loads();
     out_valid = false;
   }
@@ -795,25 +796,22 @@ struct FastEngine::Impl {
   }
 
   /// The second half kick v(n+1) = v(n+1/2) + a(n+1) dt/2, kept in pv, pw for the next step's
-  /// first half kick (see step()); with one rank also each particle's motion energy terms of the new
-  /// state (reduce_one_rank sums them in construction order, reading one line per particle).
+  /// first half kick (see step()); also each particle's motion energy terms of the new state
+  /// (summed in construction order with the contact terms: one line per particle).
   void close_step() {
     const double half = 0.5 * s.dt;
     const Vec3 g = s.gravity;
     const std::size_t owned = s.owned;  // changed if the build migrated particles
-    const bool one_rank = !distributed();  // reduce_one_rank sums the motion terms kept here
     PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
     for (std::size_t i = 0; i < owned; ++i) {
       s.pv[i] = half * (s.f[i] / s.mass[i] + g);  // the closing kick, kept for the next step
       s.pw[i] = half * s.t[i] / s.inertia[i];
       s.v[i] += s.pv[i];
       s.w[i] += s.pw[i];
-      if (one_rank) {
-        const std::array<double, 3> motion = motion_terms(i);
-        s.terms[i].kinetic = motion[0];
-        s.terms[i].rotational = motion[1];
-        s.terms[i].gravitational = motion[2];
-      }
+      const std::array<double, 3> motion = motion_terms(i);  // summed with the contact terms
+      s.terms[i].kinetic = motion[0];
+      s.terms[i].rotational = motion[1];
+      s.terms[i].gravitational = motion[2];
     }
     kick_cached = true;
   }
@@ -962,7 +960,7 @@ Energies FastEngine::energies() const {
   // The reference's expressions and its summation order (ordered_sum.hpp): the same bits.
   auto energy_terms = [&](std::size_t i) { return m.motion_terms(i); };
   std::array<double, 3> sums{};
-  if (!m.distributed() && m.motion_valid) {  // summed by the last step's pass
+  if (m.motion_valid) {  // summed by the last step's pass (and gathered with several ranks)
     sums = m.motion_sums;
   } else if (!m.distributed()) {  // every particle here: construction order through `where`
     sums = parallel_ordered_sum<3>(m.total, [&](std::size_t o) { return energy_terms(s.where[o]); });

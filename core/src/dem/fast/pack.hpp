@@ -16,6 +16,13 @@ namespace ppohdem::dem::fast {
 class Packer {
  public:
   explicit Packer(Bytes& out) : out_(out) {}
+  /// `count` trivially copyable records in one copy (a per-particle table: one insert instead of
+  /// one per value, which took 8 % of a 2-rank step).
+  template <class T>
+  void put_rows(const T* rows, std::size_t count) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    raw(rows, count * sizeof(T));
+  }
   template <class T>
   void put(const T& value) {
     if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
@@ -46,6 +53,14 @@ class Packer {
 class Unpacker {
  public:
   explicit Unpacker(const Bytes& in) : in_(in) {}
+  /// Packer::put_rows's records, appended to `rows`.
+  template <class T>
+  void get_rows(std::vector<T>& rows, std::size_t count) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const std::size_t old = rows.size();
+    rows.resize(old + count);
+    raw(rows.data() + old, count * sizeof(T));
+  }
   template <class T>
   void get(T& value) {
     if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
