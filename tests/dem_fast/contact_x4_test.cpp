@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <utility>
 
 #include "ppohdem/dem/contact_force.hpp"
 #include "ppohdem/dem/material.hpp"
@@ -63,8 +64,11 @@ Scalar scalar_contact(const HertzMindlin& law, const FastState& s, std::size_t i
 
 /// `pairs` random touching pairs (particles 2p, 2p + 1) of radii 0.3-0.7 mm with overlaps up
 /// to 5 % of the smaller radius, velocities up to 1 m/s, spins up to 1000 rad/s, and histories
-/// of the listed kinds; pair p's spring has code p in pool 0.
-FastState random_pairs(std::size_t pairs, std::mt19937_64& rng) {
+/// of the listed kinds; pair p's spring has code p in pool 0. `equal_blocks`: pairs come in
+/// blocks of 8 whose 16 particles have one radius (0.5 mm, 0.45 mm, then a block of random
+/// radii, and again), so whole groups of four contacts take the lanes' equal-particle path and
+/// its cached constants change between blocks.
+FastState random_pairs(std::size_t pairs, std::mt19937_64& rng, bool equal_blocks = false) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   FastState s;
@@ -84,6 +88,7 @@ FastState random_pairs(std::size_t pairs, std::mt19937_64& rng) {
     const std::size_t i = 2 * p, j = i + 1;
     for (const std::size_t q : {i, j}) {
       s.radius[q] = 0.5e-3 * (1.0 + 0.4 * u(rng));               // [m]
+      if (equal_blocks && (p / 8) % 3 != 2) s.radius[q] = (p / 8) % 3 == 0 ? 0.5e-3 : 0.45e-3;
       s.mass[q] = 2500.0 * 4.18879 * std::pow(s.radius[q], 3);   // [kg]
       s.v[q] = Vec3(u(rng), u(rng), u(rng));                     // [m/s]
       s.pv[q] = s.v[q] + 0.01 * Vec3(u(rng), u(rng), u(rng));
@@ -134,8 +139,8 @@ TEST_P(ContactsX4, EveryLaneIsBitwiseTheScalarContact) {
   m.friction = 0.5;
   const HertzMindlin law = HertzMindlin::from_material(m);
   const double dt = 8.65e-6;  // [s]
-  for (const bool energy : {true, false}) {
-    FastState s = random_pairs(pairs, rng);
+  for (const auto [energy, equal_blocks] : {std::pair{true, false}, std::pair{false, false}, std::pair{true, true}}) {
+    FastState s = random_pairs(pairs, rng, equal_blocks);
     const std::vector<TangentialSpring> before = s.spring_pools[0];
     // Entries listed in reverse with gaps, as a chunk's contacts are not contiguous.
     std::vector<PairEntry> entries(2 * pairs + 1);
@@ -164,7 +169,10 @@ TEST_P(ContactsX4, EveryLaneIsBitwiseTheScalarContact) {
                   same_bits(result.force, want.result.force) && same_bits(result.torque_i, want.result.torque_i) &&
                   same_bits(result.torque_j, want.result.torque_j) && same_bits(entry.overlap, want.overlap);
       if (energy) same = same && same_bits(entry.elastic, want.force.elastic_energy) && same_bits(entry.dissipated, want.force.dissipated);
-      if (!same && differing++ == 0) ADD_FAILURE() << "pair " << p << " of " << pairs << " (energy " << energy << ") differs";
+      if (!same && differing++ == 0) {
+        ADD_FAILURE() << "pair " << p << " of " << pairs << " (energy " << energy << ", equal blocks " << equal_blocks
+                      << ") differs";
+      }
       const Vec3 n = (s.x[2 * p] - s.x[2 * p + 1]).normalized();
       if (want.force.on_i.dot(n) == 0.0) ++clamped;
       // Slip: the tangential force sits on the Coulomb cap mu F_n (to round-off, 1e-9).
