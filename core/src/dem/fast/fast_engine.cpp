@@ -1006,6 +1006,8 @@ std::size_t FastEngine::memory_bytes() const {
   std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror) + bytes(s.upper_first);
   for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
   for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
+  pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->all_terms);  // the engine's reused work buffers
+  for (const auto& buffer : impl_->search_buffers) pool_bytes += bytes(buffer);
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.terms) + bytes(s.first) +
