@@ -65,6 +65,14 @@ struct History {
   std::vector<std::uint32_t> record_first{0};
   std::vector<BoundaryRecord> records;  ///< .particle is not used here
 
+  /// Room for the histories and records of `h` (a copy of all or part of it follows).
+  void reserve_like(const History& h) {
+    first.reserve(h.first.size());
+    partner_id.reserve(h.partner_id.size());
+    spring.reserve(h.spring.size());
+    record_first.reserve(h.record_first.size());
+    records.reserve(h.records.size());
+  }
   void append_from(const History& h, std::size_t k) {
     for (std::uint32_t a = h.first[k]; a < h.first[k + 1]; ++a) {
       partner_id.push_back(h.partner_id[a]);
@@ -161,6 +169,10 @@ struct FastEngine::Impl {
   std::vector<std::array<double, 7>> block_sums;  ///< reduce_one_rank's per-block partial sums
   std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
+  struct Probe {  ///< a centre and radius in search_neighbours' member order [m]
+    double x, y, z, r;
+  };
+  std::vector<Probe> search_probes;  ///< search_neighbours' member-order records (reused)
   std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
 
   /// Keeps the particles this rank owns (all of them on one rank).
@@ -215,6 +227,15 @@ struct FastEngine::Impl {
   History take_history() const {
     History h;
     const std::size_t n = s.owned;
+    h.first.reserve(n + 1);
+    h.record_first.reserve(n + 1);
+    if (s.friction && s.first.size() == n + 1) {  // at most one history per contact side
+      std::size_t springs = 0;
+      for (const auto& pool : s.spring_pools) springs += pool.size();
+      h.partner_id.reserve(2 * springs);  // each spring: its side and its mirror
+      h.spring.reserve(2 * springs);
+    }
+    h.records.reserve(s.records.size());
     for (std::size_t k = 0; k < n; ++k) {
       if (s.friction && s.first.size() == n + 1) {
         for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
@@ -381,6 +402,7 @@ struct FastEngine::Impl {
     }
     for_each_particle_array(s, [&](auto& a) { permute(a, order); });
     History sorted;
+    sorted.reserve_like(h);
     for (const std::uint32_t k : order) sorted.append_from(h, k);
     h = std::move(sorted);
     s.x_build = s.x;
@@ -415,25 +437,39 @@ struct FastEngine::Impl {
       std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
       for (std::size_t i = 0; i < all; ++i) members[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
     }
+    // The centres and radii in member order (one 32-byte record per member): a row of three
+    // cells along x is one contiguous run of members, read in one sweep.
+    search_probes.resize(all);
+    for (std::size_t m = 0; m < all; ++m) {
+      const std::uint32_t j = members[m];
+      search_probes[m] = {s.x[j].x(), s.x[j].y(), s.x[j].z(), s.radius[j]};
+    }
+    const Probe* const probes = search_probes.data();
     const double skin_ = skin;
-    auto visit = [&](std::size_t i, auto&& emit) {
-      const Index3 c = grid.index(s.x[i]);
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const Index3 nb = {c[0] + dx, c[1] + dy, c[2] + dz};
-            if (nb[0] < 0 || nb[1] < 0 || nb[2] < 0 || nb[0] >= grid.dims[0] || nb[1] >= grid.dims[1] ||
-                nb[2] >= grid.dims[2]) {
-              continue;
-            }
-            const std::size_t cl = grid.linear(nb);
-            for (std::uint32_t m = start[cl]; m < start[cl + 1]; ++m) {
-              const std::uint32_t j = members[m];
-              if (j == i) continue;
-              const double reach = s.radius[i] + s.radius[j] + skin_;
-              if ((s.x[i] - s.x[j]).squaredNorm() < reach * reach) emit(j);
-            }
+    // The partners j != i with |x_i - x_j| < R_i + R_j + skin, as (id, storage index) into
+    // `near` (unsorted): the 3 x 3 rows of three cells around i's cell.
+    auto visit = [&](std::size_t i, std::vector<std::pair<std::int64_t, std::uint32_t>>& near) {
+      const Vec3 xi = s.x[i];
+      const double ri = s.radius[i];
+      const Index3 c = grid.index(xi);
+      const int x_lo = std::max(c[0] - 1, 0);
+      const int x_hi = std::min(c[0] + 1, grid.dims[0] - 1);
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int z = c[2] + dz;
+        if (z < 0 || z >= grid.dims[2]) continue;
+        for (int dy = -1; dy <= 1; ++dy) {
+          const int y = c[1] + dy;
+          if (y < 0 || y >= grid.dims[1]) continue;
+          const std::size_t row = grid.linear({x_lo, y, z});
+          const std::uint32_t end = start[row + static_cast<std::size_t>(x_hi - x_lo) + 1];
+          for (std::uint32_t m = start[row]; m < end; ++m) {
+            const Probe& p = probes[m];
+            const double reach = ri + p.r + skin_;
+            const Vec3 d(xi.x() - p.x, xi.y() - p.y, xi.z() - p.z);
+            if (d.squaredNorm() < reach * reach && members[m] != i) near.emplace_back(s.id[members[m]], members[m]);
           }
+        }
+      }
     };
     // One pass: each of `blocks` contiguous blocks of particles lists its partners (each
     // particle's sorted by id) into its own buffer, and the buffers are joined in block order
@@ -447,12 +483,13 @@ struct FastEngine::Impl {
       const std::size_t hi = n * static_cast<std::size_t>(b + 1) / static_cast<std::size_t>(blocks);
       std::vector<std::uint32_t>& found = search_buffers[static_cast<std::size_t>(b)];
       found.clear();
+      std::vector<std::pair<std::int64_t, std::uint32_t>> near;
       for (std::size_t i = lo; i < hi; ++i) {
-        const std::size_t begin = found.size();
-        visit(i, [&](std::uint32_t j) { found.push_back(j); });
-        std::sort(found.begin() + static_cast<std::ptrdiff_t>(begin), found.end(),
-                  [&](std::uint32_t a, std::uint32_t c) { return s.id[a] < s.id[c]; });
-        first[i + 1] = static_cast<std::uint32_t>(found.size() - begin);
+        near.clear();
+        visit(i, near);
+        std::sort(near.begin(), near.end());  // by id (ids are unique)
+        for (const auto& [id, j] : near) found.push_back(j);
+        first[i + 1] = static_cast<std::uint32_t>(near.size());
       }
     }
     for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
@@ -505,6 +542,7 @@ struct FastEngine::Impl {
     if (s.friction) {
       s.spring_of.assign(s.partner.size(), kNoSpring);
       s.spring_pools.assign(1, std::vector<TangentialSpring>(1));  // entry 0: kNoSpring's
+      s.spring_pools[0].reserve(h.spring.size() + 1);
       s.pool_shift = 31;
       for (std::size_t k = 0; k < n; ++k) {
         std::uint32_t a = h.first[k];
@@ -1006,7 +1044,7 @@ std::size_t FastEngine::memory_bytes() const {
   std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror) + bytes(s.upper_first);
   for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
   for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
-  pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->all_terms);  // the engine's reused work buffers
+  pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes) + bytes(impl_->all_terms);  // the engine's reused work buffers
   for (const auto& buffer : impl_->search_buffers) pool_bytes += bytes(buffer);
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +

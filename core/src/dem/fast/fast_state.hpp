@@ -331,6 +331,23 @@ inline void lay_out_springs(FastState& s, int threads) {
                             " neighbour slots on one rank exceed the spring index range (2^" + std::to_string(shift) +
                             "); run with more MPI ranks");
   }
+  // Already laid out (pool 0 alone, its codes 1, 2, ... in slot order, as install_history
+  // makes them): a copy would change nothing, so only the ranges' empty pools are added.
+  if (s.spring_pools.size() == 1 && s.spring_of.size() == s.partner.size()) {
+    std::uint32_t next = 1;
+    bool in_order = true;
+    for (const std::uint32_t code : s.spring_of) {
+      if (code == kNoSpring) continue;
+      in_order = in_order && code == next;
+      ++next;
+    }
+    if (in_order && next == s.spring_pools[0].size()) {
+      s.spring_pools.resize(static_cast<std::size_t>(threads) + 1);
+      for (ThreadOutput& range : s.threads) range.free_springs.clear();
+      s.pool_shift = shift;
+      return;
+    }
+  }
   std::vector<TangentialSpring> packed(1);  // the entry of kNoSpring
   std::vector<std::uint32_t> codes(s.partner.size(), kNoSpring);
   if (s.spring_of.size() == s.partner.size()) {
