@@ -139,7 +139,7 @@ TEST_P(ContactsX4, EveryLaneIsBitwiseTheScalarContact) {
   m.friction = 0.5;
   const HertzMindlin law = HertzMindlin::from_material(m);
   const double dt = 8.65e-6;  // [s]
-  for (const auto [energy, equal_blocks] : {std::pair{true, false}, std::pair{false, false}, std::pair{true, true}}) {
+  for (const auto& [energy, equal_blocks] : {std::pair{true, false}, std::pair{false, false}, std::pair{true, true}}) {
     FastState s = random_pairs(pairs, rng, equal_blocks);
     const std::vector<TangentialSpring> before = s.spring_pools[0];
     // Entries listed in reverse with gaps, as a chunk's contacts are not contiguous.

@@ -640,6 +640,8 @@ struct FastEngine::Impl {
   /// kick runs between the kernel and the sums, and with one rank the kinetic, rotational and
   /// gravitational sums of the new state come out of the same pass (cached for energies()).
   void evaluate_forces(double history_dt, bool closing_kick = false) {
+    s.closing_kick = closing_kick;
+    s.kick_closed = false;
     kernel->evaluate(s, static_cast<double>(steps) * s.dt, history_dt);
     motion_valid = false;
     if (closing_kick) close_step();
@@ -826,30 +828,13 @@ struct FastEngine::Impl {
     out_valid = false;
   }
 
-  /// Kinetic, rotational and gravitational energy of particle k (the reference's expressions)
-  /// [J]: m |v|^2 / 2, I |w|^2 / 2, -m g . x.
-  std::array<double, 3> motion_terms(std::size_t k) const {
-    return {0.5 * s.mass[k] * s.v[k].squaredNorm(), 0.5 * s.inertia[k] * s.w[k].squaredNorm(),
-            -(s.mass[k] * s.gravity.dot(s.x[k]))};
-  }
-
-  /// The second half kick v(n+1) = v(n+1/2) + a(n+1) dt/2, kept in pv, pw for the next step's
-  /// first half kick (see step()); also each particle's motion energy terms of the new state
-  /// (summed in construction order with the contact terms: one line per particle).
+  /// The second half kick of every owned particle (close_kick, fast_state.hpp) unless the
+  /// kernel's sum pass applied it; the next step's first half kick reuses it.
   void close_step() {
-    const double half = 0.5 * s.dt;
-    const Vec3 g = s.gravity;
-    const std::size_t owned = s.owned;  // changed if the build migrated particles
-    PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
-    for (std::size_t i = 0; i < owned; ++i) {
-      s.pv[i] = half * (s.f[i] / s.mass[i] + g);  // the closing kick, kept for the next step
-      s.pw[i] = half * s.t[i] / s.inertia[i];
-      s.v[i] += s.pv[i];
-      s.w[i] += s.pw[i];
-      const std::array<double, 3> motion = motion_terms(i);  // summed with the contact terms
-      s.terms[i].kinetic = motion[0];
-      s.terms[i].rotational = motion[1];
-      s.terms[i].gravitational = motion[2];
+    if (!s.kick_closed) {  // else the kernel's sum pass applied it (fast_state.hpp)
+      const std::size_t owned = s.owned;  // changed if the build migrated particles
+      PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
+      for (std::size_t i = 0; i < owned; ++i) close_kick(s, i);
     }
     kick_cached = true;
   }
@@ -996,7 +981,7 @@ Energies FastEngine::energies() const {
   const Impl& m = *impl_;
   const FastState& s = m.s;
   // The reference's expressions and its summation order (ordered_sum.hpp): the same bits.
-  auto energy_terms = [&](std::size_t i) { return m.motion_terms(i); };
+  auto energy_terms = [&](std::size_t i) { return motion_terms(m.s, i); };
   std::array<double, 3> sums{};
   if (m.motion_valid) {  // summed by the last step's pass (and gathered with several ranks)
     sums = m.motion_sums;

@@ -3,6 +3,7 @@
 // interface. Private to core/src/dem/fast. Formulas: ppohdem/dem/contact_force.hpp; the
 // divergences from the reference engine are listed in ppohdem/dem/fast/fast_engine.hpp.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -236,6 +237,11 @@ struct FastState {
   double dt = 0.0;
   Vec3 gravity = Vec3::Zero();
   bool friction = false;
+  /// Set by the engine for an evaluation that closes a step: a kernel whose sums end in a pass
+  /// over the particles may apply the closing kick there (close_kick below), right after each
+  /// particle's sums, and then sets kick_closed; otherwise the engine applies it afterwards.
+  bool closing_kick = false;
+  bool kick_closed = false;
   // --- results of the last evaluation ---
   std::size_t pair_contacts = 0;
   std::size_t boundary_contacts = 0;
@@ -397,6 +403,30 @@ void for_each_moving_array(State& s, F&& f) {
   f(s.w);
   f(s.pv);
   f(s.pw);
+}
+
+/// Kinetic, rotational and gravitational energy of particle k (the reference's expressions)
+/// [J]: m |v|^2 / 2, I |w|^2 / 2, -m g . x.
+inline std::array<double, 3> motion_terms(const FastState& s, std::size_t k) {
+  return {0.5 * s.mass[k] * s.v[k].squaredNorm(), 0.5 * s.inertia[k] * s.w[k].squaredNorm(),
+          -(s.mass[k] * s.gravity.dot(s.x[k]))};
+}
+
+/// The second half kick of particle i, v(n+1) = v(n+1/2) + a(n+1) dt/2 with a from f, t: the
+/// kick is kept in pv, pw for the next step's first half kick (FastEngine::Impl::step), and
+/// the particle's motion energy terms of the new state go to its terms record (summed in
+/// construction order with the contact terms: one line per particle).
+inline void close_kick(FastState& s, std::size_t i) {
+  const double half = 0.5 * s.dt;
+  s.pv[i] = half * (s.f[i] / s.mass[i] + s.gravity);
+  s.pw[i] = half * s.t[i] / s.inertia[i];
+  s.v[i] += s.pv[i];
+  s.w[i] += s.pw[i];
+  const std::array<double, 3> motion = motion_terms(s, i);
+  FastState::ParticleTerms& terms = s.terms[i];
+  terms.kinetic = motion[0];
+  terms.rotational = motion[1];
+  terms.gravitational = motion[2];
 }
 
 /// A force evaluation: contact forces and torques of every OWNED particle at time `time` with

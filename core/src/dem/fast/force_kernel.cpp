@@ -525,10 +525,12 @@ class Kernel final : public ForceKernel {
           }
           s.f[i] = force;
           s.t[i] = torque;
+          if (s.closing_kick) close_kick(s, i);  // while f and t are in registers
         }
       }
     }
     }
+    if constexpr (kHalf) s.kick_closed = s.closing_kick;
     s.pair_contacts = pairs;
     s.boundary_contacts = touching_boundaries;
     s.deepest.reset();
