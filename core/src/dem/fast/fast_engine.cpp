@@ -30,11 +30,11 @@ Grid grid_for(const std::vector<Vec3>& x, double min_cell) { return cell_grid_fo
 template <class T>
 void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
   std::vector<T> b(order.size());
+  PPOHDEM_OMP(omp parallel for schedule(static) if (order.size() >= kParallelMin))
   for (std::size_t k = 0; k < order.size(); ++k) b[k] = a[order[k]];
   a.swap(b);
 }
 
-/// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
 /// ordered_sum.hpp's sum of term(0) .. term(n-1) with its blocks summed on the OpenMP threads:
 /// the same bits as the serial ordered_sum for any thread count.
 template <std::size_t K, class Term>
@@ -48,6 +48,7 @@ std::array<double, K> parallel_ordered_sum(std::size_t n, const Term& term) {
   return add_blocks(blocks);
 }
 
+/// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
 bool keeps_history(const TangentialSpring& s) { return s.stiffness != 0.0 || s.branch_i != Vec3::Zero() || s.displacement != Vec3::Zero(); }
 
 template <class T>
@@ -65,13 +66,30 @@ struct History {
   std::vector<std::uint32_t> record_first{0};
   std::vector<BoundaryRecord> records;  ///< .particle is not used here
 
-  /// Room for the histories and records of `h` (a copy of all or part of it follows).
-  void reserve_like(const History& h) {
-    first.reserve(h.first.size());
-    partner_id.reserve(h.partner_id.size());
-    spring.reserve(h.spring.size());
-    record_first.reserve(h.record_first.size());
-    records.reserve(h.records.size());
+  /// The histories of h's particles order[0], order[1], ... (a copy in that order; each
+  /// particle's block is copied on the OpenMP threads, after the offsets are summed).
+  static History gathered(const History& h, const std::vector<std::uint32_t>& order) {
+    History g;
+    const std::size_t n = order.size();
+    g.first.assign(n + 1, 0);
+    g.record_first.assign(n + 1, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      g.first[k + 1] = g.first[k] + (h.first[order[k] + 1] - h.first[order[k]]);
+      g.record_first[k + 1] = g.record_first[k] + (h.record_first[order[k] + 1] - h.record_first[order[k]]);
+    }
+    g.partner_id.resize(g.first[n]);
+    g.spring.resize(g.first[n]);
+    g.records.resize(g.record_first[n]);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t from = h.first[order[k]], count = h.first[order[k] + 1] - from;
+      std::copy_n(h.partner_id.begin() + from, count, g.partner_id.begin() + g.first[k]);
+      std::copy_n(h.spring.begin() + from, count, g.spring.begin() + g.first[k]);
+      const std::uint32_t record_from = h.record_first[order[k]];
+      std::copy_n(h.records.begin() + record_from, h.record_first[order[k] + 1] - record_from,
+                  g.records.begin() + g.record_first[k]);
+    }
+    return g;
   }
   void append_from(const History& h, std::size_t k) {
     for (std::uint32_t a = h.first[k]; a < h.first[k + 1]; ++a) {
@@ -227,33 +245,53 @@ struct FastEngine::Impl {
   History take_history() const {
     History h;
     const std::size_t n = s.owned;
-    h.first.reserve(n + 1);
-    h.record_first.reserve(n + 1);
-    if (s.friction && s.first.size() == n + 1) {  // at most one history per contact side
-      std::size_t springs = 0;
-      for (const auto& pool : s.spring_pools) springs += pool.size();
-      h.partner_id.reserve(2 * springs);  // each spring: its side and its mirror
-      h.spring.reserve(2 * springs);
-    }
-    h.records.reserve(s.records.size());
+    const bool pairs = s.friction && s.first.size() == n + 1;
+    const bool boundaries = s.record_first.size() == n + 1;
+    // The code of the history slot `slot` of particle k carries, or kNoSpring: a pair of
+    // owned particles keeps its history on the lower-id side only (the kernel evaluates it
+    // there), and this side's is its mirror.
+    auto carried = [&](std::size_t k, std::uint32_t slot, bool& other_side) {
+      const std::uint32_t j = s.partner[slot];
+      other_side = j < n && s.id[j] < s.id[k];
+      const std::uint32_t code = other_side ? s.spring_of[s.mirror[slot]] : s.spring_of[slot];
+      return code == kNoSpring || !keeps_history(s.spring_at(code)) ? kNoSpring : code;
+    };
+    // Counts, offsets, then each particle's block filled on the threads.
+    h.first.assign(n + 1, 0);
+    h.record_first.assign(n + 1, 0);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t k = 0; k < n; ++k) {
-      if (s.friction && s.first.size() == n + 1) {
+      std::uint32_t count = 0;
+      bool other_side = false;
+      if (pairs) {
+        for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) count += carried(k, slot, other_side) != kNoSpring;
+      }
+      h.first[k + 1] = count;
+      h.record_first[k + 1] = boundaries ? s.record_first[k + 1] - s.record_first[k] : 0;
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      h.first[k + 1] += h.first[k];
+      h.record_first[k + 1] += h.record_first[k];
+    }
+    h.partner_id.resize(h.first[n]);
+    h.spring.resize(h.first[n]);
+    h.records.resize(h.record_first[n]);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    for (std::size_t k = 0; k < n; ++k) {
+      std::uint32_t a = h.first[k];
+      if (pairs) {
         for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
-          // A pair of owned particles keeps its history on the lower-id side only (the
-          // kernel evaluates it there): this side's is its mirror.
-          const std::uint32_t j = s.partner[slot];
-          const bool other_side = j < n && s.id[j] < s.id[k];
-          const std::uint32_t code = other_side ? s.spring_of[s.mirror[slot]] : s.spring_of[slot];
-          if (code == kNoSpring || !keeps_history(s.spring_at(code))) continue;
-          h.partner_id.push_back(s.id[j]);
-          h.spring.push_back(other_side ? mirrored(s.spring_at(code)) : s.spring_at(code));
+          bool other_side = false;
+          const std::uint32_t code = carried(k, slot, other_side);
+          if (code == kNoSpring) continue;
+          h.partner_id[a] = s.id[s.partner[slot]];
+          h.spring[a++] = other_side ? mirrored(s.spring_at(code)) : s.spring_at(code);
         }
       }
-      h.first.push_back(static_cast<std::uint32_t>(h.partner_id.size()));
-      if (s.record_first.size() == n + 1) {
-        for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) h.records.push_back(s.records[r]);
+      if (boundaries) {
+        std::copy(s.records.begin() + s.record_first[k], s.records.begin() + s.record_first[k + 1],
+                  h.records.begin() + h.record_first[k]);
       }
-      h.record_first.push_back(static_cast<std::uint32_t>(h.records.size()));
     }
     return h;
   }
@@ -401,10 +439,7 @@ struct FastEngine::Impl {
       for (std::size_t i = 0; i < n; ++i) order[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
     }
     for_each_particle_array(s, [&](auto& a) { permute(a, order); });
-    History sorted;
-    sorted.reserve_like(h);
-    for (const std::uint32_t k : order) sorted.append_from(h, k);
-    h = std::move(sorted);
+    h = History::gathered(h, order);
     s.x_build = s.x;
     for (std::size_t k = 0; k < n; ++k) s.where[s.original[k]] = static_cast<std::uint32_t>(k);
   }
@@ -539,46 +574,63 @@ struct FastEngine::Impl {
   /// follow their particle. A pair history whose partner is no longer in the list is lost.
   void install_history(const History& h) {
     const std::size_t n = s.owned;
+    const int blocks = n >= kParallelMin ? max_threads() : 1;
     if (s.friction) {
-      s.spring_of.assign(s.partner.size(), kNoSpring);
-      s.spring_pools.assign(1, std::vector<TangentialSpring>(1));  // entry 0: kNoSpring's
-      s.spring_pools[0].reserve(h.spring.size() + 1);
-      s.pool_shift = 31;
-      for (std::size_t k = 0; k < n; ++k) {
-        std::uint32_t a = h.first[k];
-        const std::uint32_t a_end = h.first[k + 1];
-        for (std::uint32_t b = s.first[k]; b < s.first[k + 1]; ++b) {
-          const std::int64_t want = s.id[s.partner[b]];
-          for (; a < a_end && h.partner_id[a] < want; ++a) lost(h.spring[a], k, h.partner_id[a]);
-          if (a < a_end && h.partner_id[a] == want) {
-            // An owned lower-id partner keeps the pair's history (its mirror is this one).
-            if (s.partner[b] < n && want < s.id[k]) {
+      // Each slot's history (index into h) by a merge per particle, on the threads (the lost
+      // ones into per-block lists: add_lost_energy sorts them); then pool 0 in slot order.
+      constexpr std::uint32_t kNone = 0xffffffffu;
+      std::vector<std::uint32_t> source(s.partner.size(), kNone);
+      std::vector<std::vector<std::tuple<std::uint32_t, std::int64_t, double>>> lost_in(static_cast<std::size_t>(blocks));
+      PPOHDEM_OMP(omp parallel for schedule(static, 1) num_threads(blocks))
+      for (int block = 0; block < blocks; ++block) {
+        auto& lost_here = lost_in[static_cast<std::size_t>(block)];
+        for (std::size_t k = n * static_cast<std::size_t>(block) / static_cast<std::size_t>(blocks);
+             k < n * static_cast<std::size_t>(block + 1) / static_cast<std::size_t>(blocks); ++k) {
+          std::uint32_t a = h.first[k];
+          const std::uint32_t a_end = h.first[k + 1];
+          for (std::uint32_t b = s.first[k]; b < s.first[k + 1]; ++b) {
+            const std::int64_t want = s.id[s.partner[b]];
+            for (; a < a_end && h.partner_id[a] < want; ++a) lost(lost_here, h.spring[a], k, h.partner_id[a]);
+            if (a < a_end && h.partner_id[a] == want) {
+              // An owned lower-id partner keeps the pair's history (its mirror is this one).
+              if (!(s.partner[b] < n && want < s.id[k])) source[b] = a;
               ++a;
-              continue;
             }
-            s.spring_of[b] = s.new_spring(0);
-            s.spring_at(s.spring_of[b]) = h.spring[a++];
           }
+          for (; a < a_end; ++a) lost(lost_here, h.spring[a], k, h.partner_id[a]);
         }
-        for (; a < a_end; ++a) lost(h.spring[a], k, h.partner_id[a]);
+      }
+      for (const auto& lost_here : lost_in) lost_terms.insert(lost_terms.end(), lost_here.begin(), lost_here.end());
+      s.spring_of.assign(s.partner.size(), kNoSpring);
+      std::uint32_t next = 1;  // entry 0: kNoSpring's
+      for (std::size_t b = 0; b < source.size(); ++b) {
+        if (source[b] != kNone) s.spring_of[b] = next++;
+      }
+      s.spring_pools.assign(1, std::vector<TangentialSpring>(next));
+      s.pool_shift = 31;
+      std::vector<TangentialSpring>& pool = s.spring_pools[0];
+      PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+      for (std::size_t b = 0; b < source.size(); ++b) {
+        if (source[b] != kNone) pool[s.spring_of[b]] = h.spring[source[b]];
       }
       lay_out_springs(s, kernel_threads(n));  // checks the code range, adds the ranges' pools
     }
-    s.records.clear();
-    s.record_first.assign(n + 1, 0);
+    s.record_first = h.record_first;
+    s.records.resize(h.records.size());
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t k = 0; k < n; ++k) {
       for (std::uint32_t r = h.record_first[k]; r < h.record_first[k + 1]; ++r) {
-        s.records.push_back(h.records[r]);
-        s.records.back().particle = static_cast<std::uint32_t>(k);
+        s.records[r] = h.records[r];
+        s.records[r].particle = static_cast<std::uint32_t>(k);
       }
-      s.record_first[k + 1] = static_cast<std::uint32_t>(s.records.size());
     }
   }
 
   /// A history dropped from the list (the pair moved apart by more than the skin within one
   /// step): its stored energy is dissipated, booked once (lower id side).
-  void lost(const TangentialSpring& spring, std::size_t k, std::int64_t other) {
-    if (s.id[k] < other) lost_terms.emplace_back(s.original[k], other, spring.stored_energy());
+  void lost(std::vector<std::tuple<std::uint32_t, std::int64_t, double>>& to, const TangentialSpring& spring,
+            std::size_t k, std::int64_t other) const {
+    if (s.id[k] < other) to.emplace_back(s.original[k], other, spring.stored_energy());
   }
 
   /// The lost energies of this build, added in construction order (then partner id) on every
