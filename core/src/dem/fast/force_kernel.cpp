@@ -14,7 +14,9 @@
 // side keeps the history (the other side's is its exact mirror: fast_engine.cpp derives it
 // when the list is rebuilt). A second pass, after a barrier, sums each particle's contacts
 // in the order above: its own results, the negated results of its lower-id partners (-f and
-// -(r_j x f) are bitwise the partner side's f' and r' x f'), then its boundary records. Each
+// -(r_j x f) are bitwise the partner side's f' and r' x f'), then its boundary records; at the
+// end of a step it also applies the particle's closing kick (close_kick, fast_state.hpp) while
+// f and t are in registers, instead of a separate pass of the engine. Each
 // pass writes only its own particles' data, so neither needs atomics. A ghost partner's pair
 // is evaluated from this side as before (the ghost's own rank evaluates its side). Measured
 // on the settled 10,000-particle bench bed (docs/performance.md): 1.17x on one thread; writing

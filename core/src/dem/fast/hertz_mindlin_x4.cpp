@@ -4,6 +4,7 @@
 // names its scalar original; the order of operations is the original's, lane by lane.
 #include "hertz_mindlin_x4.hpp"
 
+#include <cstddef>
 #include <cstdint>
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -15,6 +16,14 @@ namespace ppohdem::dem::fast {
 
 #ifdef PPOHDEM_X4
 namespace {
+
+// The wide stores below rely on these layouts (checked here, where they are used).
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles");
+static_assert(offsetof(TangentialSpring, stiffness) == offsetof(TangentialSpring, displacement) + 3 * sizeof(double));
+static_assert(offsetof(TangentialSpring, branch_i) == offsetof(TangentialSpring, stiffness) + sizeof(double));
+static_assert(offsetof(TangentialSpring, branch_j) == offsetof(TangentialSpring, branch_i) + 3 * sizeof(double));
+static_assert(offsetof(PairResult, torque_i) == offsetof(PairResult, force) + 3 * sizeof(double));
+static_assert(offsetof(PairResult, torque_j) == offsetof(PairResult, torque_i) + 3 * sizeof(double));
 
 using D4 = double __attribute__((vector_size(32)));  ///< four lanes, one contact each
 struct V4 {                                           ///< four 3-vectors, one per lane
@@ -54,11 +63,19 @@ PPOHDEM_LANES V4 gather(const std::vector<Vec3>& base, const std::uint32_t* inde
   const Vec3* p[4] = {&base[index[0]], &base[index[1]], &base[index[2]], &base[index[3]]};
   return gather(p);
 }
-/// object[l]->*member = lane l of a.
-template <class Object>
-PPOHDEM_LANES void scatter(const V4& a, Object* const* object, Vec3 Object::*member) {
-  for (int l = 0; l < 4; ++l) object[l]->*member = Vec3(a.x[l], a.y[l], a.z[l]);
+/// The four lanes of a, b, c, d as four rows: row l = (a[l], b[l], c[l], d[l]).
+PPOHDEM_LANES void transpose(D4 a, D4 b, D4 c, D4 d, D4 row[4]) {
+  const __m256d ab_even = _mm256_unpacklo_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));  // a0 b0 a2 b2
+  const __m256d ab_odd = _mm256_unpackhi_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));   // a1 b1 a3 b3
+  const __m256d cd_even = _mm256_unpacklo_pd(reinterpret_cast<__m256d>(c), reinterpret_cast<__m256d>(d));
+  const __m256d cd_odd = _mm256_unpackhi_pd(reinterpret_cast<__m256d>(c), reinterpret_cast<__m256d>(d));
+  row[0] = reinterpret_cast<D4>(_mm256_permute2f128_pd(ab_even, cd_even, 0x20));
+  row[1] = reinterpret_cast<D4>(_mm256_permute2f128_pd(ab_odd, cd_odd, 0x20));
+  row[2] = reinterpret_cast<D4>(_mm256_permute2f128_pd(ab_even, cd_even, 0x31));
+  row[3] = reinterpret_cast<D4>(_mm256_permute2f128_pd(ab_odd, cd_odd, 0x31));
 }
+/// Four consecutive doubles at `to` := row (one unaligned 32-byte store).
+PPOHDEM_LANES void store4(double* to, D4 row) { _mm256_storeu_pd(to, reinterpret_cast<__m256d>(row)); }
 
 template <bool kEnergy>
 [[gnu::target("avx"), gnu::flatten]] void hertz_mindlin_x4_avx(const HertzMindlin& law, FastState& s, PairEntry* entries,
@@ -196,14 +213,22 @@ template <bool kEnergy>
     // Stores: the spring, the pair result, the entry.
     const V4 torque_i = cross(r_i, force);
     const V4 torque_j = cross(r_j, force);
-    scatter(xi_new, spring, &TangentialSpring::displacement);
-    scatter(r_i, spring, &TangentialSpring::branch_i);
-    scatter(r_j, spring, &TangentialSpring::branch_j);
-    scatter(force, result, &PairResult::force);
-    scatter(torque_i, result, &PairResult::torque_i);
-    scatter(torque_j, result, &PairResult::torque_j);
+    // Each lane's spring and result as rows of four consecutive doubles (the layouts checked
+    // at the top of the file): four 32-byte stores and three scalar ones per contact instead of
+    // 19 scalar ones (measured: docs/performance.md "Wide stores").
+    D4 rows[4];
+    transpose(xi_new.x, xi_new.y, xi_new.z, k_t, rows);  // displacement, stiffness
+    for (int l = 0; l < 4; ++l) store4(spring[l]->displacement.data(), rows[l]);
+    transpose(r_i.x, r_i.y, r_i.z, r_j.x, rows);  // branch_i, branch_j.x
+    for (int l = 0; l < 4; ++l) store4(spring[l]->branch_i.data(), rows[l]);
+    transpose(force.x, force.y, force.z, torque_i.x, rows);  // force, torque_i.x
+    for (int l = 0; l < 4; ++l) store4(result[l]->force.data(), rows[l]);
+    transpose(torque_i.y, torque_i.z, torque_j.x, torque_j.y, rows);  // torque_i.y, .z, torque_j.x, .y
+    for (int l = 0; l < 4; ++l) store4(result[l]->torque_i.data() + 1, rows[l]);
     for (int l = 0; l < 4; ++l) {
-      spring[l]->stiffness = k_t[l];
+      spring[l]->branch_j.y() = r_j.y[l];
+      spring[l]->branch_j.z() = r_j.z[l];
+      result[l]->torque_j.z() = torque_j.z[l];
       entry[l]->overlap = overlap[l];
       if constexpr (kEnergy) {
         entry[l]->elastic = elastic[l];
