@@ -215,7 +215,7 @@ template <bool kEnergy>
     const V4 torque_j = cross(r_j, force);
     // Each lane's spring and result as rows of four consecutive doubles (the layouts checked
     // at the top of the file): four 32-byte stores and three scalar ones per contact instead of
-    // 19 scalar ones (measured: docs/performance.md "Wide stores").
+    // 19 scalar ones (measured: docs/performance.md, "What the law's stores cost").
     D4 rows[4];
     transpose(xi_new.x, xi_new.y, xi_new.z, k_t, rows);  // displacement, stiffness
     for (int l = 0; l < 4; ++l) store4(spring[l]->displacement.data(), rows[l]);
