@@ -76,7 +76,9 @@ struct PairBatch {
 
 /// What one range of particles produced in a force evaluation (concatenated in range order,
 /// which is storage order: the ranges are contiguous and ascending).
-struct ThreadOutput {
+/// One cache line or more of its own (alignas(64)): each thread appends to its records and
+/// spring lists, whose sizes live here, while the neighbouring thread reads its own members.
+struct alignas(64) ThreadOutput {
   std::vector<BoundaryRecord> records;
   std::vector<std::uint32_t> newly_escaped;  ///< storage indices
   std::optional<LargestOverlap> deepest;     ///< of this thread's contacts
@@ -230,6 +232,13 @@ struct FastState {
   /// cut with them). Only the speed depends on them, never a result.
   std::vector<double> range_share;
   std::vector<double> range_seconds;
+  /// The frictional kernels' second (sum) pass has its own ranges: range r sums the particles
+  /// whose neighbour slots begin in the r-th part of the slots, the parts' shares corrected by
+  /// the pass's measured times every kSumRecut evaluations (force_kernel.cpp). It reads only
+  /// finished results, so its cut may move at any evaluation. Only the speed depends on them.
+  std::vector<double> sum_share;
+  std::vector<double> sum_seconds;
+  unsigned sum_evaluations = 0;  ///< since the last recut
   // --- scene ---
   std::vector<WallData> walls;        ///< per boundary index (unused entries for others)
   std::vector<bool> is_wall;          ///< per boundary index
@@ -259,6 +268,32 @@ inline constexpr std::uint32_t kNoMirror = 0xffffffffu;  ///< mirror of a slot w
 /// Threads of the force kernel for `owned` particles (one below kParallelMin).
 inline int kernel_threads(std::size_t owned) { return owned >= kParallelMin ? max_threads() : 1; }
 
+/// The shares of `ranges` ranges that would have taken equal times, from each range's
+/// share of the work at the last cut and the seconds it has taken since: each range's speed
+/// in shares per second gives the balanced shares; the result moves half-way there (damping:
+/// one interval's timing is noisy) and stays within [1/2, 3/2] of an even share. Even shares
+/// if there is no timing for `ranges` ranges yet (other sizes, or a range without time). Only the speed of the
+/// kernel depends on the shares, never a result.
+inline std::vector<double> timed_shares(std::size_t ranges, const std::vector<double>& share,
+                                        const std::vector<double>& seconds) {
+  const double even = 1.0 / static_cast<double>(ranges);
+  std::vector<double> next(ranges, even);
+  if (share.size() != ranges || seconds.size() != ranges) return next;
+  for (const double t : seconds) {
+    if (!(t > 0.0)) return next;
+  }
+  double speeds = 0.0;  // [shares / s]
+  for (std::size_t r = 0; r < ranges; ++r) speeds += share[r] / seconds[r];
+  double total = 0.0;
+  for (std::size_t r = 0; r < ranges; ++r) {
+    const double balanced = share[r] / seconds[r] / speeds;
+    next[r] = std::clamp(0.5 * (share[r] + balanced), 0.5 * even, 1.5 * even);
+    total += next[r];
+  }
+  for (double& x : next) x /= total;
+  return next;
+}
+
 /// Cuts the owned particles into `threads` contiguous ranges of about equal estimated work,
 /// in units of one idle neighbour slot: 8 per particle (integration, walls, stores), 1 per slot,
 /// 15 more per touching slot (a contact law evaluation; instruction ratios from callgrind of
@@ -270,26 +305,8 @@ inline void balance_split(FastState& s, int threads) {
   const auto ranges = static_cast<std::size_t>(threads);
   // Measured correction: the estimate misjudges parts of a scene (in the settling bed, 10,000
   // particles on 2 threads, the range holding the floor took 1.3x the other's time during the
-  // fall, perf). Each range's speed in shares per second since the last cut gives the shares
-  // that would have taken equal times; the new shares move half-way there (damping: one
-  // interval's timing is noisy) and stay within [1/2, 3/2] of an even share.
-  std::vector<double> share(ranges, 1.0 / static_cast<double>(ranges));
-  if (s.range_share.size() == ranges && s.range_seconds.size() == ranges) {
-    bool timed = true;
-    for (const double t : s.range_seconds) timed = timed && t > 0.0;
-    if (timed) {
-      double speeds = 0.0;
-      for (std::size_t r = 0; r < ranges; ++r) speeds += s.range_share[r] / s.range_seconds[r];
-      double total = 0.0;
-      for (std::size_t r = 0; r < ranges; ++r) {
-        const double balanced = s.range_share[r] / s.range_seconds[r] / speeds;
-        share[r] = std::clamp(0.5 * (s.range_share[r] + balanced), 0.5 / static_cast<double>(ranges),
-                              1.5 / static_cast<double>(ranges));
-        total += share[r];
-      }
-      for (double& x : share) x /= total;
-    }
-  }
+  // fall, perf).
+  const std::vector<double> share = timed_shares(ranges, s.range_share, s.range_seconds);
   s.range_share = share;
   s.range_seconds.assign(ranges, 0.0);
   std::vector<std::uint64_t> cumulative(n + 1, 0);

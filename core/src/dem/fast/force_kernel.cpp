@@ -86,6 +86,10 @@ inline PairKinematics pair_kinematics(const FastState& s, std::size_t i, std::si
 // forces, torques and histories are the same bit for bit (measured: 10 % of the settled bed).
 /// Particles per chunk of the frictional kernels' first pass (their pair lists stay in L1).
 constexpr std::size_t kChunk = 64;
+/// Evaluations between two cuts of the sum pass by its measured times: about 4 ms of that
+/// pass in the 10,000-particle bed on 2 threads, long enough for the clock (steady_clock, two
+/// reads per range and evaluation) and short next to how fast the bed's work moves.
+constexpr unsigned kSumRecut = 20;
 
 template <class Law, bool kFriction, bool kWalls, bool kOthers, bool kMulti, bool kEnergy>
 class Kernel final : public ForceKernel {
@@ -181,6 +185,12 @@ class Kernel final : public ForceKernel {
     if constexpr (kHalf) {
       if (s.mirror.size() != s.partner.size() || s.upper_first.size() != n) {
         throw std::logic_error("fast engine: neighbour mirrors not linked");
+      }
+      // The sum pass's ranges (below), even at first.
+      if (s.sum_share.size() != ranges || s.sum_seconds.size() != ranges) {
+        s.sum_share.assign(ranges, 1.0 / static_cast<double>(ranges));
+        s.sum_seconds.assign(ranges, 0.0);
+        s.sum_evaluations = 0;
       }
       s.result_pools.resize(s.spring_pools.size());
       for (std::size_t pool = 0; pool < s.spring_pools.size(); ++pool) {
@@ -479,21 +489,26 @@ class Kernel final : public ForceKernel {
     }
     // Each pair once: the sums, in the order of the comment at the top (after the barrier
     // of the loop above, every pair's result and history is in place). This pass reads only
-    // finished results and writes only its particles' f and t, so it has its own cut: equal
-    // numbers of neighbour slots (its work is about the same per slot), while the first pass's
-    // ranges are balanced by that pass's measured times alone, so that each barrier waits
-    // less (measured: docs/performance.md "Each pass its own cut").
+    // finished results and writes only its particles' f and t, so it has its own cut: shares
+    // of the neighbour slots (its work is about the same per slot), corrected by the pass's
+    // own measured times every kSumRecut evaluations (FastState::sum_share), while the first
+    // pass's ranges are balanced by that pass's measured times alone, so that each barrier
+    // waits less (measured: docs/performance.md "Each pass its own cut" and "Two threads:
+    // where the time goes").
     if constexpr (kHalf) {
       const std::size_t slots = s.first[n];
       auto cut = [&](std::size_t range) -> std::size_t {
         if (range == 0) return 0;
         if (range == ranges) return n;
-        const std::uint32_t want = static_cast<std::uint32_t>(slots * range / ranges);
+        double before = 0.0;  // shares of the ranges before `range`
+        for (std::size_t r = 0; r < range; ++r) before += s.sum_share[r];
+        const auto want = static_cast<std::uint32_t>(static_cast<double>(slots) * std::min(before, 1.0));
         return static_cast<std::size_t>(std::lower_bound(s.first.begin(), s.first.begin() + static_cast<std::ptrdiff_t>(n), want) -
                                         s.first.begin());
       };
       PPOHDEM_OMP(omp for schedule(static, 1))
       for (std::size_t range = 0; range < ranges; ++range) {
+        const auto sums_started = std::chrono::steady_clock::now();
         const std::size_t last = cut(range + 1);
         for (std::size_t i = cut(range); i < last; ++i) {
           Vec3 force = Vec3::Zero();
@@ -529,10 +544,18 @@ class Kernel final : public ForceKernel {
           s.t[i] = torque;
           if (s.closing_kick) close_kick(s, i);  // while f and t are in registers
         }
+        s.sum_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - sums_started).count();
       }
     }
     }
-    if constexpr (kHalf) s.kick_closed = s.closing_kick;
+    if constexpr (kHalf) {
+      s.kick_closed = s.closing_kick;
+      if (++s.sum_evaluations >= kSumRecut) {
+        s.sum_share = timed_shares(ranges, s.sum_share, s.sum_seconds);
+        s.sum_seconds.assign(ranges, 0.0);
+        s.sum_evaluations = 0;
+      }
+    }
     s.pair_contacts = pairs;
     s.boundary_contacts = touching_boundaries;
     s.deepest.reset();
