@@ -268,12 +268,12 @@ inline constexpr std::uint32_t kNoMirror = 0xffffffffu;  ///< mirror of a slot w
 /// Threads of the force kernel for `owned` particles (one below kParallelMin).
 inline int kernel_threads(std::size_t owned) { return owned >= kParallelMin ? max_threads() : 1; }
 
-/// The shares of `ranges` ranges that would have taken equal times, from each range's
-/// share of the work at the last cut and the seconds it has taken since: each range's speed
-/// in shares per second gives the balanced shares; the result moves half-way there (damping:
-/// one interval's timing is noisy) and stays within [1/2, 3/2] of an even share. Even shares
-/// if there is no timing for `ranges` ranges yet (other sizes, or a range without time). Only the speed of the
-/// kernel depends on the shares, never a result.
+/// The shares of `ranges` ranges that would have taken equal times, from each range's share
+/// of the work at the last cut and the seconds it has taken since: each range's speed in
+/// shares per second gives the balanced shares; the result moves half-way there (damping: one
+/// interval's timing is noisy) and stays within [1/2, 3/2] of an even share. Even shares if
+/// there is no timing for `ranges` ranges yet (other sizes, or a range without time). Only
+/// the speed of the kernel depends on the shares, never a result.
 inline std::vector<double> timed_shares(std::size_t ranges, const std::vector<double>& share,
                                         const std::vector<double>& seconds) {
   const double even = 1.0 / static_cast<double>(ranges);
