@@ -11,11 +11,16 @@
 // --steps / --time-finish override the end of any scene (short test runs).
 //   --checkpoint-every N   write <dir>/checkpoint.bin every N steps and at the end
 //   --restart FILE         continue from a checkpoint to the scene's (or --steps') end step
+//   --alternate-threads 1,2 [--alternate-every K]   switch the OpenMP thread count every K
+//       steps (default 500) in turn and report each count's particle-steps per second: a
+//       speed-up measured in one process, over the same phases of the run (the results do not
+//       depend on the thread count; docs/performance.md)
 // Under `mpirun -n P` (P > 1) the fast engine decomposes the domain over the P ranks
 // (docs/dem.md "Domain decomposition"): the same files, byte for byte, as one rank (header
 // line aside), written by rank 0; checkpoints hold the whole system, so a run restarts at any
 // rank count. The reference engine runs on one rank only.
 // (docs/reliability.md; a run that fails a check exits 1 with a diagnosis).
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -23,6 +28,11 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
+
+#ifdef PPOHDEM_WITH_OPENMP
+#include <omp.h>
+#endif
 
 #include "commands.hpp"
 #include "ppohdem/dem/engine.hpp"
@@ -55,6 +65,57 @@ struct SimulateOptions {
   long checkpoint_every = 0;          // steps between checkpoints (0: none)
   std::string restart;                // checkpoint file to continue from
   const Comm* comm = nullptr;         // the ranks this program runs on (mpirun)
+  std::vector<int> alternate_threads; // OpenMP thread counts to switch between (empty: none)
+  long alternate_every = 500;         // steps per block of one thread count
+};
+
+/// `--alternate-threads`: the run switches the OpenMP thread count at every K-th step boundary,
+/// in turn, and adds each block's wall time to its count. The counts then share the machine's
+/// state of the moment (this VM's speed drifts by up to 1.4x between minutes) and every phase of
+/// the run (free fall, impact, settling) in equal parts, which separate runs do not.
+class ThreadAlternation {
+ public:
+  ThreadAlternation(std::vector<int> counts, long every, long last_step)
+      : counts_(std::move(counts)), every_(every), last_step_(last_step), seconds_(counts_.size(), 0.0),
+        steps_(counts_.size(), 0) {}
+
+  void at_step_boundary(long done) {
+    const auto now = std::chrono::steady_clock::now();
+    if (started_) {
+      if (done - block_first_ < every_ && done < last_step_) return;
+      seconds_[current_] += std::chrono::duration<double>(now - block_start_).count();
+      steps_[current_] += done - block_first_;
+      current_ = (current_ + 1) % counts_.size();
+    }
+    started_ = true;
+#ifdef PPOHDEM_WITH_OPENMP
+    omp_set_num_threads(counts_[current_]);
+#endif
+    block_first_ = done;
+    block_start_ = std::chrono::steady_clock::now();
+  }
+
+  /// One line per thread count: steps, seconds, particle-steps per second, ratio to the first.
+  void report(std::size_t particles) const {
+    const double first_rate = rate(0, particles);
+    for (std::size_t k = 0; k < counts_.size(); ++k) {
+      std::printf("alternate threads: %d thread(s) %ld steps in %.3f s, %.4g particle-steps/s, %.3fx %d thread(s)\n",
+                  counts_[k], steps_[k], seconds_[k], rate(k, particles), rate(k, particles) / first_rate, counts_[0]);
+    }
+  }
+
+ private:
+  double rate(std::size_t k, std::size_t particles) const {
+    return seconds_[k] > 0.0 ? static_cast<double>(steps_[k]) * static_cast<double>(particles) / seconds_[k] : 0.0;
+  }
+  std::vector<int> counts_;
+  long every_, last_step_;
+  std::vector<double> seconds_;
+  std::vector<long> steps_;
+  std::size_t current_ = 0;
+  bool started_ = false;
+  long block_first_ = 0;
+  std::chrono::steady_clock::time_point block_start_;
 };
 
 const std::map<std::string, dem::EngineFactory>& engines() {
@@ -121,6 +182,21 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   if (!options.restart.empty()) {
     run_options.restart = std::make_shared<const dem::Checkpoint>(dem::read_checkpoint(options.restart));
   }
+  std::optional<ThreadAlternation> alternation;
+  if (!options.alternate_threads.empty()) {
+    if (options.alternate_every < 1) throw InputError("--alternate-every: expected >= 1 step");
+    for (const int count : options.alternate_threads) {
+      if (count < 1) throw InputError("--alternate-threads: expected thread counts >= 1, got " + std::to_string(count));
+    }
+    if (factory->second != &dem::fast::FastEngine::make) {
+      throw InputError("--alternate-threads: the " + options.engine + " engine runs on one thread; use --engine fast");
+    }
+#ifndef PPOHDEM_WITH_OPENMP
+    throw InputError("--alternate-threads: this build has no OpenMP");
+#endif
+    alternation.emplace(options.alternate_threads, options.alternate_every, scene.steps);
+    run_options.at_step_boundary = [&alternation](long done) { alternation->at_step_boundary(done); };
+  }
   const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
   std::vector<std::size_t> outside;  // samples outside each object's grid, all ranks
   for (const dem::SceneObject& o : scene.objects) {
@@ -157,6 +233,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   }
   std::printf("wrote %s (final.csv, energy.csv, %zu frames)\n", scene.output.dir.string().c_str(),
               s.frames);
+  if (alternation) alternation->report(particle_count);
 }
 
 // A legacy ppohDEM input_params_update.dat starts (after blank lines) with the label
@@ -205,6 +282,12 @@ void register_simulate(CLI::App& app, const Comm& comm) {
   cmd->add_option("--checkpoint-every", options->checkpoint_every,
                   "write <output dir>/checkpoint.bin every N steps and at the end");
   cmd->add_option("--restart", options->restart, "continue from this checkpoint file");
+  cmd->add_option("--alternate-threads", options->alternate_threads,
+                  "fast engine: switch between these OpenMP thread counts (e.g. 1,2) every --alternate-every "
+                  "steps and report each count's particle-steps per second")
+      ->delimiter(',');
+  cmd->add_option("--alternate-every", options->alternate_every, "steps per block of --alternate-threads")
+      ->capture_default_str();
   cmd->add_option("--data-length", options->data_length,
                   "legacy: length L [m] of the distance data (default: from input_constants_voxelizer.dat)");
   cmd->add_option("--compat", options->compat,

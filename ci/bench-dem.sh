@@ -19,6 +19,9 @@
 #   --engines  the ppohdem engines to run (default: every one `ppohdem simulate --help` lists)
 #   --untracked also run every ppohdem engine with `[simulation] energy_balance = false` (no
 #              contact energy book-keeping, which none of the peers does), as "<engine>-untracked"
+#   (the fast engine also runs once per round with `--alternate-threads 1,2`: 1 and 2 threads
+#   taking turns every 500 steps in one process, a 2-thread speed-up free of the drift between
+#   separate runs; its own table in results.md)
 #   --repeat K run every code K times, interleaved (all codes once, then all again, ...), and
 #              add a table of the best and median loop times and their ratios: on a shared or
 #              virtual machine single runs of one binary vary by up to 1.4x here
@@ -173,6 +176,32 @@ run_ours() {  # engine N steps case_dir [untracked]
   done
 }
 
+# One run of the fast engine that switches between 1 and 2 OpenMP threads every 500 steps
+# (`ppohdem simulate --alternate-threads 1,2`): the two counts share the same minutes of the
+# machine and the same phases of the run, so their ratio does not carry the drift between
+# separate runs. One line per round into alternating.tsv.
+ALTERNATING="$OUT/alternating.tsv"
+printf 'engine\tN\tsteps\t1_thread_psteps_per_s\t2_threads_psteps_per_s\tratio\n' >"$ALTERNATING"
+run_alternating() {  # engine N steps case_dir [untracked]
+  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} label=$1 dir one two
+  [ -n "$untracked" ] && label="$engine-untracked"
+  dir="$case_dir/ppohdem-$label-alternating"
+  rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
+  sed "s|^file = \"particles.csv\"|file = \"$case_dir/particles.csv\"|; s|^dir = \"ours_out\"|dir = \"$dir/out\"|" \
+    "$case_dir/scene.toml" >scene.toml
+  [ -n "$untracked" ] && sed -i 's|^\[simulation\]$|[simulation]\nenergy_balance = false|' scene.toml
+  if OMP_NUM_THREADS=2 "$PPOHDEM" simulate scene.toml --engine "$engine" --quiet --alternate-threads 1,2 \
+      --alternate-every 500 >out.txt 2>&1; then
+    one=$(awk '/^alternate threads: 1 thread/ {print $(NF-4)}' out.txt | tr -d ,)
+    two=$(awk '/^alternate threads: 2 thread/ {print $(NF-4)}' out.txt | tr -d ,)
+    printf '%s\t%s\t%s\t%s\t%s\t%s\n' "ppohdem-$label" "$n" "$steps" "$one" "$two" \
+      "$(awk -v a="$one" -v b="$two" 'BEGIN {printf "%.3f", (a > 0 ? b / a : 0)}')" | tee -a "$ALTERNATING"
+  else
+    echo "bench-dem: the alternating run failed: see $dir/out.txt" >&2
+  fi
+  cd "$ROOT"
+}
+
 LOAD_START=$(uptime)
 for spec in "${SIZES[@]}"; do
   n=${spec%%:*}; steps=${spec##*:}
@@ -185,7 +214,9 @@ for spec in "${SIZES[@]}"; do
       case "$code" in
         ours) for e in "${ENGINES[@]}"; do
                 run_ours "$e" "$n" "$steps" "$case_dir"
+                [ "$e" = fast ] && run_alternating "$e" "$n" "$steps" "$case_dir"
                 [ "$UNTRACKED" -eq 1 ] && run_ours "$e" "$n" "$steps" "$case_dir" untracked
+                [ "$UNTRACKED" -eq 1 ] && [ "$e" = fast ] && run_alternating "$e" "$n" "$steps" "$case_dir" untracked
               done ;;
         liggghts|lammps|yade)
           exe=$code; [ "$code" = lammps ] && exe=lmp
@@ -233,6 +264,20 @@ done
             printf "| %s | %s | %s | %d | %.3f | %.3f | %s | %s | %s |\n", f[1], f[2], f[3], count[key], best[key], med[key], rb, rm, ro
           }
         }'
+  fi
+  if [ "$(wc -l <"$ALTERNATING")" -gt 1 ]; then
+    echo
+    echo "2 threads against 1 in one run (\`--alternate-threads 1,2 --alternate-every 500\`: the counts take turns"
+    echo "every 500 steps, so both see the same minutes of the machine and the same phases of the run):"
+    echo
+    echo "| engine | N | steps | 1 thread [particle-steps/s] | 2 threads [particle-steps/s] | ratio |"
+    echo "|---|---|---|---|---|---|"
+    tail -n +2 "$ALTERNATING" | awk -F'\t' '{printf "| %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6}'
+    tail -n +2 "$ALTERNATING" | sort -t"$(printf '\t')" -k1,1 -k2,2n -k6,6g |
+      awk -F'\t' '{key = $1 " N = " $2; r[key, ++c[key]] = $6; if (c[key] == 1) o[++k] = key}
+        END {for (i = 1; i <= k; i++) {key = o[i]; n = c[key]
+          m = (n % 2) ? r[key, (n + 1) / 2] : 0.5 * (r[key, n / 2] + r[key, n / 2 + 1])
+          printf "\nMedian ratio, %s: %.3f over %d run(s).\n", key, m, n}}'
   fi
 } >"$OUT/results.md"
 echo "bench-dem: wrote $OUT/results.md" >&2

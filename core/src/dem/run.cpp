@@ -247,6 +247,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     warn_outside();
     if (out.every > 0) write_frame(engine.step_count());
   }
+  if (options.at_step_boundary) options.at_step_boundary(first_step);
   for (long step = first_step + 1; step <= scene.steps; ++step) {
     engine.step();
     warn_outside();
@@ -267,6 +268,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
       const Checkpoint checkpoint = make_checkpoint();  // collective: on every rank
       if (writer) write_checkpoint(out.dir / kCheckpointFile, checkpoint);
     }
+    if (options.at_step_boundary) options.at_step_boundary(step);
     const long done = step - first_step, total = scene.steps - first_step;
     if (writer && out.progress && total >= 1000) {
       const long percent = 100 * done / total;

@@ -14,6 +14,7 @@
 ///   line) as an uninterrupted one. Stale temp files of killed runs in <dir> are removed.
 /// Diagnostics (run_diagnostics.hpp) after every step; a failed check writes the logs and
 ///   <dir>/failed_checkpoint.bin and throws RunFailure.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -51,6 +52,10 @@ struct RunOptions {
   /// caller that frees scene.setup.particles once the engine holds them; empty: computed from
   /// scene.setup.
   std::optional<TimeStepLimit> time_step_limit;
+  /// Called with the engine's step count before the first step and after every step (after
+  /// its checks, logs and checkpoint): for a caller that times or tunes blocks of steps
+  /// (`ppohdem simulate --alternate-threads`). Empty: not called.
+  std::function<void(long steps_done)> at_step_boundary;
 };
 
 /// File names in the output directory.

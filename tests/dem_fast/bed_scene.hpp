@@ -1,0 +1,49 @@
+#pragma once
+// The frictional bed of the fast engine's command-line tests (fast_mpi_cli_test.cpp,
+// alternate_threads_cli_test.cpp): a scene file and its particles, written into a directory.
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+
+#include "ppohdem/dem/particle_csv.hpp"
+
+namespace ppohdem::test {
+
+/// A frictional bed in a walled box: nx x ny x nz spheres of radius 1 mm on a lattice of pitch
+/// 2.1 mm (gaps 0.1 mm) with deterministic velocities of up to 0.3 m/s, so that within a few
+/// hundred steps the particles collide, the lists are rebuilt many times (skin/2 = 0.1 mm) and
+/// particles cross brick faces. Writes bed.csv and bed.toml into dir; returns the scene path.
+inline std::filesystem::path write_bed(const std::filesystem::path& dir, int nx, int ny, int nz, long steps, long every) {
+  using namespace ppohdem::dem;
+  using ppohdem::Vec3;
+  Particles ps;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        Particle p;
+        p.id = 3 * static_cast<std::int64_t>(ps.size()) + 11;  // ids unrelated to storage
+        p.radius = 1.0e-3 * (1.0 - 0.02 * ((i + 2 * j + 3 * k) % 3));
+        p.position = Vec3(1.05e-3 + 2.1e-3 * i, 1.05e-3 + 2.1e-3 * j, 1.05e-3 + 2.1e-3 * k);
+        const double a = 1.7 * i + 2.3 * j + 3.1 * k;
+        p.velocity = 0.3 * Vec3(std::sin(a), std::cos(1.3 * a), std::sin(0.7 * a + 1.0));  // m/s
+        p.angular_velocity = Vec3(50.0 * std::cos(a), 0.0, 30.0 * std::sin(a));            // rad/s
+        ps.push_back(p);
+      }
+  write_particles_csv(dir / "bed.csv", ps, "dem_fast_mpi bed");
+  const double lx = 2.1e-3 * nx, ly = 2.1e-3 * ny;
+  std::ofstream toml(dir / "bed.toml");
+  toml.precision(17);
+  toml << "[simulation]\ndt = 1.0e-5\nsteps = " << steps << "\ngravity = [0.0, 0.0, -9.81]\n"
+       << "[material]\ndensity = 2500.0\nyoung = 1.0e7\npoisson = 0.3\nrestitution = 0.5\nfriction = 0.5\n"
+       << "[contact]\nmodel = \"hertz-mindlin\"\n[particles]\nfile = \"bed.csv\"\n"
+       << "[[wall]]\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n"
+       << "[[wall]]\npoint = [0.0, 0.0, 0.0]\nnormal = [1.0, 0.0, 0.0]\n"
+       << "[[wall]]\npoint = [" << lx << ", 0.0, 0.0]\nnormal = [-1.0, 0.0, 0.0]\n"
+       << "[[wall]]\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\n"
+       << "[[wall]]\npoint = [0.0, " << ly << ", 0.0]\nnormal = [0.0, -1.0, 0.0]\n"
+       << "[output]\ndir = \"out\"\nevery = " << every << "\nformats = [\"csv\"]\nprogress = false\n";
+  return dir / "bed.toml";
+}
+
+}  // namespace ppohdem::test
