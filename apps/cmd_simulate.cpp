@@ -12,7 +12,7 @@
 //   --checkpoint-every N   write <dir>/checkpoint.bin every N steps and at the end
 //   --restart FILE         continue from a checkpoint to the scene's (or --steps') end step
 //   --alternate-threads 1,2 [--alternate-every K]   switch the OpenMP thread count every K
-//       steps (default 500) in turn and report each count's particle-steps per second: a
+//       steps (default 500; order 1 2 2 1 1 2 ...) and report each count's particle-steps per second: a
 //       speed-up measured in one process, over the same phases of the run (the results do not
 //       depend on the thread count; docs/performance.md)
 // Under `mpirun -n P` (P > 1) the fast engine decomposes the domain over the P ranks
@@ -69,10 +69,13 @@ struct SimulateOptions {
   long alternate_every = 500;         // steps per block of one thread count
 };
 
-/// `--alternate-threads`: the run switches the OpenMP thread count at every K-th step boundary,
-/// in turn, and adds each block's wall time to its count. The counts then share the machine's
-/// state of the moment (this VM's speed drifts by up to 1.4x between minutes) and every phase of
-/// the run (free fall, impact, settling) in equal parts, which separate runs do not.
+/// `--alternate-threads`: the run switches the OpenMP thread count at every K-th step boundary
+/// and adds each block's wall time to its count. The counts then share the machine's state of
+/// the moment (this VM's speed drifts by up to 1.4x between minutes) and every phase of the run
+/// (free fall, impact, settling), which separate runs do not. The order goes back and forth
+/// (A B B A A B ...: block b of round b / k takes count b % k, reversed in odd rounds), so that
+/// a cost that grows or shrinks along the run falls on every count alike: in strict turns
+/// (A B A B ...) one code path timed against itself came out 3-4 % apart on the settling bed.
 class ThreadAlternation {
  public:
   ThreadAlternation(std::vector<int> counts, long every, long last_step)
@@ -85,7 +88,9 @@ class ThreadAlternation {
       if (done - block_first_ < every_ && done < last_step_) return;
       seconds_[current_] += std::chrono::duration<double>(now - block_start_).count();
       steps_[current_] += done - block_first_;
-      current_ = (current_ + 1) % counts_.size();
+      ++block_;
+      const std::size_t k = counts_.size(), round = block_ / k, place = block_ % k;
+      current_ = round % 2 == 0 ? place : k - 1 - place;
     }
     started_ = true;
 #ifdef PPOHDEM_WITH_OPENMP
@@ -112,7 +117,8 @@ class ThreadAlternation {
   long every_, last_step_;
   std::vector<double> seconds_;
   std::vector<long> steps_;
-  std::size_t current_ = 0;
+  std::size_t current_ = 0;  // index into counts_ of the running block
+  std::size_t block_ = 0;    // blocks started before the running one
   bool started_ = false;
   long block_first_ = 0;
   std::chrono::steady_clock::time_point block_start_;
