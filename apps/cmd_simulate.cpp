@@ -104,6 +104,11 @@ class ThreadAlternation {
   void report(std::size_t particles) const {
     const double first_rate = rate(0, particles);
     for (std::size_t k = 0; k < counts_.size(); ++k) {
+      if (steps_[k] == 0 || first_rate == 0.0) {
+        std::printf("alternate threads: %d thread(s) %ld steps: no ratio (the run is shorter than %zu blocks of %ld "
+                    "steps)\n", counts_[k], steps_[k], counts_.size(), every_);
+        continue;
+      }
       std::printf("alternate threads: %d thread(s) %ld steps in %.3f s, %.4g particle-steps/s, %.3fx %d thread(s)\n",
                   counts_[k], steps_[k], seconds_[k], rate(k, particles), rate(k, particles) / first_rate, counts_[0]);
     }

@@ -192,8 +192,12 @@ run_alternating() {  # engine N steps case_dir [untracked]
   [ -n "$untracked" ] && sed -i 's|^\[simulation\]$|[simulation]\nenergy_balance = false|' scene.toml
   if OMP_NUM_THREADS=2 "$PPOHDEM" simulate scene.toml --engine "$engine" --quiet --alternate-threads 1,2 \
       --alternate-every 500 >out.txt 2>&1; then
-    one=$(awk '/^alternate threads: 1 thread/ {print $(NF-4)}' out.txt | tr -d ,)
-    two=$(awk '/^alternate threads: 2 thread/ {print $(NF-4)}' out.txt | tr -d ,)
+    one=$(awk '/^alternate threads: 1 thread.*particle-steps/ {print $(NF-4)}' out.txt | tr -d ,)
+    two=$(awk '/^alternate threads: 2 thread.*particle-steps/ {print $(NF-4)}' out.txt | tr -d ,)
+    if [ -z "$one" ] || [ -z "$two" ]; then
+      echo "bench-dem: the alternating run has no ratio ($steps steps: shorter than two blocks of 500)" >&2
+      cd "$ROOT"; return
+    fi
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "ppohdem-$label" "$n" "$steps" "$one" "$two" \
       "$(awk -v a="$one" -v b="$two" 'BEGIN {printf "%.3f", (a > 0 ? b / a : 0)}')" | tee -a "$ALTERNATING"
   else
@@ -201,6 +205,13 @@ run_alternating() {  # engine N steps case_dir [untracked]
   fi
   cd "$ROOT"
 }
+
+# The machine's own 2-thread ratio at the moment (validation/peers/scaling_probe.cpp: loops with
+# nothing shared between the threads), once per round, next to the engines' figures.
+PROBE="$OUT/scaling_probe"
+PROBES="$OUT/probe.txt"
+: >"$PROBES"
+g++ -O2 -fopenmp "$ROOT/validation/peers/scaling_probe.cpp" -o "$PROBE" 2>/dev/null || PROBE=""
 
 LOAD_START=$(uptime)
 for spec in "${SIZES[@]}"; do
@@ -210,6 +221,7 @@ for spec in "${SIZES[@]}"; do
   $PY validation/peers/make_bench.py "$n" "$steps" "$case_dir"
   for rep in $(seq "$REPEAT"); do
     echo "bench-dem: N = $n, $steps steps (dt = 8.65e-6 s), round $rep of $REPEAT, load: $(uptime)" >&2
+    [ -n "$PROBE" ] && echo "round $rep ($(date -u +%H:%M) UTC): $("$PROBE")" | tee -a "$PROBES" >&2
     for code in $CODES; do
       case "$code" in
         ours) for e in "${ENGINES[@]}"; do
@@ -267,8 +279,8 @@ done
   fi
   if [ "$(wc -l <"$ALTERNATING")" -gt 1 ]; then
     echo
-    echo "2 threads against 1 in one run (\`--alternate-threads 1,2 --alternate-every 500\`: the counts take turns"
-    echo "every 500 steps, so both see the same minutes of the machine and the same phases of the run):"
+    echo "2 threads against 1 in one run (\`--alternate-threads 1,2 --alternate-every 500\`: blocks of 500 steps"
+    echo "in the order 1 2 2 1 1 2 ..., so both see the same minutes of the machine and the same phases of the run):"
     echo
     echo "| engine | N | steps | 1 thread [particle-steps/s] | 2 threads [particle-steps/s] | ratio |"
     echo "|---|---|---|---|---|---|"
@@ -278,6 +290,13 @@ done
         END {for (i = 1; i <= k; i++) {key = o[i]; n = c[key]
           m = (n % 2) ? r[key, (n + 1) / 2] : 0.5 * (r[key, n / 2] + r[key, n / 2 + 1])
           printf "\nMedian ratio, %s: %.3f over %d run(s).\n", key, m, n}}'
+  fi
+  if [ -s "$PROBES" ]; then
+    echo
+    echo "The machine's own 2-thread ratio (time on 1 thread / on 2) at the start of each round"
+    echo "(validation/peers/scaling_probe.cpp: independent multiply chains, and a sum over 32 MB):"
+    echo
+    sed 's/^/- /' "$PROBES"
   fi
 } >"$OUT/results.md"
 echo "bench-dem: wrote $OUT/results.md" >&2

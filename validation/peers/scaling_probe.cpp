@@ -1,0 +1,59 @@
+// How well this machine runs two threads at the moment: two loops with nothing to share
+// between the threads, each timed on 1 and on 2 OpenMP threads in turns (1 2 2 1 ..., 20 rounds),
+// so that ci/bench-dem.sh can print the machine's own 2-thread ratio next to the engines'.
+//   compute: 12 independent multiply-add chains per thread (no memory traffic), fixed total work;
+//   stream:  a sum over 32 MB of doubles (beyond the L2 of both cores), split between the threads.
+// Prints one line: "scaling probe: compute <ratio> stream <ratio>" (time on 1 thread / on 2).
+// Built by ci/bench-dem.sh with `g++ -O2 -fopenmp`.
+#include <omp.h>
+
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+namespace {
+
+double chains(long iterations) {
+  double a[12];
+  for (int k = 0; k < 12; ++k) a[k] = 1.0 + 1e-3 * k;
+  for (long i = 0; i < iterations; ++i) {
+    for (int k = 0; k < 12; ++k) a[k] = a[k] * 0.9999999 + 1e-7;
+  }
+  double sum = 0.0;
+  for (const double x : a) sum += x;
+  return sum;
+}
+
+double stream(const std::vector<double>& data, int passes, int thread, int threads) {
+  const std::size_t lo = data.size() * thread / threads, hi = data.size() * (thread + 1) / threads;
+  double sum = 0.0;
+  for (int p = 0; p < passes; ++p) {
+    for (std::size_t i = lo; i < hi; ++i) sum += data[i];
+  }
+  return sum;
+}
+
+}  // namespace
+
+int main() {
+  const std::vector<double> data(std::size_t{1} << 22, 1.0);  // 32 MB
+  double seconds[2][2] = {};  // [loop][threads - 1]
+  double sink = 0.0;
+  for (int round = 0; round < 20; ++round) {
+    for (int k = 0; k < 2; ++k) {
+      const int threads = (round % 2 == 0 ? k : 1 - k) + 1;
+      const auto t0 = std::chrono::steady_clock::now();
+#pragma omp parallel num_threads(threads) reduction(+ : sink)
+      sink += chains(20000000 / threads);
+      const auto t1 = std::chrono::steady_clock::now();
+#pragma omp parallel num_threads(threads) reduction(+ : sink)
+      sink += stream(data, 10, omp_get_thread_num(), threads);
+      const auto t2 = std::chrono::steady_clock::now();
+      seconds[0][threads - 1] += std::chrono::duration<double>(t1 - t0).count();
+      seconds[1][threads - 1] += std::chrono::duration<double>(t2 - t1).count();
+    }
+  }
+  std::printf("scaling probe: compute %.3f stream %.3f (checksum %.6g)\n", seconds[0][0] / seconds[0][1],
+              seconds[1][0] / seconds[1][1], sink);
+  return 0;
+}
