@@ -17,16 +17,12 @@
 #include "bed_scene.hpp"
 
 namespace fs = std::filesystem;
+using ppohdem::test::body;
 using ppohdem::test::CommandResult;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(PPOHDEM_BINARY_DIR) / "tests_scratch" / "alternate_threads" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return ppohdem::test::scratch("alternate_threads", name); }
 
 CommandResult simulate(const fs::path& scene, int threads, const std::string& args) {
   return ppohdem::test::run_shell("cd '" + scene.parent_path().string() + "' && env OMP_NUM_THREADS=" +
@@ -34,17 +30,6 @@ CommandResult simulate(const fs::path& scene, int threads, const std::string& ar
                                   "' simulate '" + scene.string() + "' " + args + " 2>&1");
 }
 
-/// The file without its '#' header lines (they name the thread count and the date).
-std::string body(const fs::path& file) {
-  std::ifstream in(file);
-  EXPECT_TRUE(in.good()) << file;
-  std::string line, out;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line[0] == '#') continue;
-    out += line + '\n';
-  }
-  return out;
-}
 
 /// The steps the report charges to `threads` threads, or -1 if it has no line for them.
 long reported_steps(const std::string& output, int threads) {

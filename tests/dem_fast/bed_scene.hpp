@@ -1,14 +1,38 @@
 #pragma once
-// The frictional bed of the fast engine's command-line tests (fast_mpi_cli_test.cpp,
-// alternate_threads_cli_test.cpp): a scene file and its particles, written into a directory.
+// What the fast engine's command-line tests share (fast_mpi_cli_test.cpp,
+// alternate_threads_cli_test.cpp): their scratch directories, the frictional bed they run, and
+// output files compared without their header lines.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "ppohdem/dem/particle_csv.hpp"
 
 namespace ppohdem::test {
+
+/// An empty directory <build>/tests_scratch/<suite>/<name>.
+inline std::filesystem::path scratch(const std::string& suite, const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(PPOHDEM_BINARY_DIR) / "tests_scratch" / suite / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// The file without its '#' header lines (they name the rank and thread counts and the date).
+inline std::string body(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  EXPECT_TRUE(in.good()) << file;
+  std::string line, out;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] == '#') continue;
+    out += line + '\n';
+  }
+  return out;
+}
 
 /// A frictional bed in a walled box: nx x ny x nz spheres of radius 1 mm on a lattice of pitch
 /// 2.1 mm (gaps 0.1 mm) with deterministic velocities of up to 0.3 m/s, so that within a few

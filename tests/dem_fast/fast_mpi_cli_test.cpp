@@ -22,17 +22,13 @@
 #include "ppohdem/dem/particle_csv.hpp"
 
 namespace fs = std::filesystem;
+using ppohdem::test::body;
 using ppohdem::test::CommandResult;
 using ppohdem::test::write_bed;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(PPOHDEM_BINARY_DIR) / "tests_scratch" / "dem_fast_mpi" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return ppohdem::test::scratch("dem_fast_mpi", name); }
 
 /// `ppohdem simulate <scene> <args>` under mpirun with P ranks and T threads per rank.
 CommandResult run_mpi(int ranks, int threads, const fs::path& scene, const std::string& args) {
@@ -46,18 +42,6 @@ CommandResult run_mpi(int ranks, int threads, const fs::path& scene, const std::
   return ppohdem::test::run_shell(command);
 }
 
-/// The file without its '#' header lines (they name the rank and thread counts and the date).
-std::string body(const fs::path& file) {
-  std::ifstream in(file);
-  EXPECT_TRUE(in.good()) << file;
-  std::string line, out;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line[0] == '#') continue;
-    out += line;
-    out += '\n';
-  }
-  return out;
-}
 
 /// Brick of x in the decomposition the program reports ("(a x b x c bricks)"), recomputed
 /// here from its definition (bounding box of the initial centres cut into equal bricks).
