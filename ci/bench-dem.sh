@@ -134,6 +134,16 @@ run_peer() {  # code N steps cores case_dir
   cd "$ROOT"
 }
 
+# scene.toml in the current directory: the case's scene reading its particles and writing
+# into DIR/out; "untracked" adds energy_balance = false (no contact energy book-keeping, which
+# the peers do not do either).
+write_our_scene() {  # case_dir dir [untracked]
+  local case_dir=$1 dir=$2 untracked=${3:-}
+  sed "s|^file = \"particles.csv\"|file = \"$case_dir/particles.csv\"|; s|^dir = \"ours_out\"|dir = \"$dir/out\"|" \
+    "$case_dir/scene.toml" >scene.toml
+  if [ -n "$untracked" ]; then sed -i 's|^\[simulation\]$|[simulation]\nenergy_balance = false|' scene.toml; fi
+}
+
 run_ours() {  # engine N steps case_dir [untracked]
   local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} cores mode dir loop label=$1
   [ -n "$untracked" ] && label="$engine-untracked"
@@ -147,10 +157,7 @@ run_ours() {  # engine N steps case_dir [untracked]
       fi
       dir="$case_dir/ppohdem-$label-$cores-$mode"
       rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
-      sed "s|^file = \"particles.csv\"|file = \"$case_dir/particles.csv\"|; s|^dir = \"ours_out\"|dir = \"$dir/out\"|" \
-        "$case_dir/scene.toml" >scene.toml
-      # --untracked: no contact energy book-keeping, which the peers do not do either.
-      [ -n "$untracked" ] && sed -i 's|^\[simulation\]$|[simulation]\nenergy_balance = false|' scene.toml
+      write_our_scene "$case_dir" "$dir" "$untracked"
       local cmd="$TIMEV $PPOHDEM simulate scene.toml --engine $engine --quiet"
       local ok=0
       if [ "$mode" = threads ]; then
@@ -187,9 +194,7 @@ run_alternating() {  # engine N steps case_dir [untracked]
   [ -n "$untracked" ] && label="$engine-untracked"
   dir="$case_dir/ppohdem-$label-alternating"
   rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
-  sed "s|^file = \"particles.csv\"|file = \"$case_dir/particles.csv\"|; s|^dir = \"ours_out\"|dir = \"$dir/out\"|" \
-    "$case_dir/scene.toml" >scene.toml
-  [ -n "$untracked" ] && sed -i 's|^\[simulation\]$|[simulation]\nenergy_balance = false|' scene.toml
+  write_our_scene "$case_dir" "$dir" "$untracked"
   if OMP_NUM_THREADS=2 "$PPOHDEM" simulate scene.toml --engine "$engine" --quiet --alternate-threads 1,2 \
       --alternate-every 500 >out.txt 2>&1; then
     one=$(awk '/^alternate threads: 1 thread.*particle-steps/ {print $(NF-4)}' out.txt | tr -d ,)
