@@ -231,6 +231,7 @@ struct FastEngine::Impl {
     q.mirror.clear();
     q.upper_first.clear();
     q.spring_of.clear();
+    q.lower_codes_valid = false;
     q.spring_pools.clear();
     q.result_pools.clear();
     q.records.clear();
@@ -552,6 +553,7 @@ struct FastEngine::Impl {
       return;
     }
     s.mirror.assign(s.partner.size(), kNoMirror);
+    s.lower_codes_valid = false;
     s.upper_first.assign(n, 0);
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t i = 0; i < n; ++i) {
@@ -1086,7 +1088,7 @@ std::size_t FastEngine::memory_bytes() const {
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.terms) + bytes(s.first) +
-         bytes(s.partner) + bytes(s.spring_of) + pool_bytes + bytes(s.records) + bytes(s.record_first) +
+         bytes(s.partner) + bytes(s.spring_of) + bytes(s.lower_code) + pool_bytes + bytes(s.records) + bytes(s.record_first) +
          bytes(s.next_records) + bytes(s.next_record_first) + bytes(s.near_boundaries);
 }
 
@@ -1242,6 +1244,7 @@ void FastEngine::restore_state(const EngineState& state) {
       std::uint32_t& code = s.spring_of[static_cast<std::size_t>(it - s.partner.begin())];
       if (code == kNoSpring) code = s.new_spring(0);
       s.spring_at(code) = spring;
+      s.lower_codes_valid = false;
     };
     install(c.id_a, c.id_b, c.spring);
     install(c.id_b, c.id_a, mirrored(c.spring));

@@ -193,6 +193,14 @@ struct FastState {
   std::vector<std::uint32_t> spring_of;  ///< per slot: kNoSpring or (pool << pool_shift) | index
   std::vector<std::vector<TangentialSpring>> spring_pools;
   unsigned pool_shift = 31;  ///< bits of the index part of a code
+  /// Per slot of an owned LOWER-id partner j: j's code for the pair (spring_of at j's slot of
+  /// this particle, mirror), copied here so that the kernel's sum pass reads it in slot order
+  /// instead of through mirror and a scattered spring_of (one dependent load less per slot).
+  /// Other slots: unused. Written only by the evaluating side: link_lower_codes after the
+  /// codes are laid out (lower_codes_valid false), then by the kernel's listing when that
+  /// side's contact begins or ends (a slot of another particle, but written by one thread only).
+  std::vector<std::uint32_t> lower_code;
+  bool lower_codes_valid = false;  ///< cleared wherever spring_of or mirror is set afresh
 
   TangentialSpring& spring_at(std::uint32_t code) {
     return spring_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
@@ -346,6 +354,7 @@ inline void balance_split(FastState& s, int threads) {
 /// codes cannot address as many slots (2^(32 - bits for 1 + threads pools), e.g. 2^30 with 2
 /// threads: then this rank holds too many particles for one process).
 inline void lay_out_springs(FastState& s, int threads) {
+  s.lower_codes_valid = false;
   unsigned pool_bits = 1;
   while ((std::size_t{1} << pool_bits) < static_cast<std::size_t>(threads) + 1) ++pool_bits;
   const unsigned shift = 32 - pool_bits;
@@ -385,6 +394,21 @@ inline void lay_out_springs(FastState& s, int threads) {
   s.spring_pools[0] = std::move(packed);
   s.spring_of = std::move(codes);
   s.pool_shift = shift;
+}
+
+/// FastState::lower_code from spring_of and mirror (friction): for each owned pair, the
+/// evaluating (lower-id) side's code copied to the other side's slot (each slot has one
+/// writer, so the particles may be split among threads).
+inline void link_lower_codes(FastState& s) {
+  s.lower_code.assign(s.partner.size(), kNoSpring);
+  const std::size_t n = s.owned;
+  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t slot = s.upper_first[i]; slot < s.first[i + 1]; ++slot) {
+      if (s.mirror[slot] != kNoMirror) s.lower_code[s.mirror[slot]] = s.spring_of[slot];
+    }
+  }
+  s.lower_codes_valid = true;
 }
 
 /// Calls f(array) for EVERY per-particle array of the state (storage order): the cell sort,

@@ -192,6 +192,7 @@ class Kernel final : public ForceKernel {
         s.sum_seconds.assign(ranges, 0.0);
         s.sum_evaluations = 0;
       }
+      if (!s.lower_codes_valid || s.lower_code.size() != s.partner.size()) link_lower_codes(s);
       s.result_pools.resize(s.spring_pools.size());
       for (std::size_t pool = 0; pool < s.spring_pools.size(); ++pool) {
         if (s.result_pools[pool].size() < s.spring_pools[pool].size()) s.result_pools[pool].resize(s.spring_pools[pool].size());
@@ -382,6 +383,8 @@ class Kernel final : public ForceKernel {
                   out.free_springs.push_back(code);
                   code = kNoSpring;
                 }
+                // The other side's copy (its sum pass reads it; only this range writes it).
+                if (const std::uint32_t other = s.mirror[slot]; other != kNoMirror) s.lower_code[other] = code;
               }
               // Written always, kept (counted) only for a contact.
               PairEntry& contact = entries[count];
@@ -524,11 +527,11 @@ class Kernel final : public ForceKernel {
           };
           const std::uint32_t upper_first = s.upper_first[i];
           for (std::uint32_t slot = s.first[i]; slot < upper_first; ++slot) {
-            if (s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
+            if (has_ghosts && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
               add_own(slot);
               continue;
             }
-            const PairResult& r = result_or_zero(s, s.spring_of[s.mirror[slot]]);  // the lower-id side's
+            const PairResult& r = result_or_zero(s, s.lower_code[slot]);  // the lower-id side's
             force += -r.force;
             torque += -r.torque_j;
           }
