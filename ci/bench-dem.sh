@@ -284,32 +284,32 @@ done
     # The same rounds paired: a code's r-th run against LIGGGHTS' r-th 1-core run (the rounds
     # run every code once, in order, minutes apart), so a slow minute cancels in part.
     if cut -f1 "$RESULTS" | grep -qx liggghts; then
-    echo
-    echo "Per round against LIGGGHTS on 1 core (each run's particle-steps per second over those of the same round's LIGGGHTS run):"
-    echo
-    echo "| code | N | cores | ratio by round | median |"
-    echo "|---|---|---|---|---|"
-    tail -n +2 "$RESULTS" | awk -F'\t' '
-        NF >= 10 && $5 > 0 {
-          key = $1 "\t" $2 "\t" $3
-          if (!(key in seen)) order[++keys] = key
-          t[key, ++seen[key]] = $5
-        }
-        END {
-          for (k = 1; k <= keys; k++) {
-            key = order[k]; split(key, f, "\t")
-            lig = "liggghts\t" f[2] "\t1"
-            if (!(lig in seen) || key == lig) continue
-            n = 0; list = ""
-            for (r = 1; r <= seen[key] && r <= seen[lig]; r++) {
-              q[++n] = t[lig, r] / t[key, r]
-              list = list (n > 1 ? ", " : "") sprintf("%.2f", q[n])
-            }
-            for (a = 1; a <= n; a++) for (b = a + 1; b <= n; b++) if (q[b] < q[a]) { x = q[a]; q[a] = q[b]; q[b] = x }
-            m = (n % 2) ? q[(n + 1) / 2] : 0.5 * (q[n / 2] + q[n / 2 + 1])
-            printf "| %s | %s | %s | %s | %.2f |\n", f[1], f[2], f[3], list, m
+      echo
+      echo "Per round against LIGGGHTS on 1 core (each run's particle-steps per second over those of the same round's LIGGGHTS run):"
+      echo
+      echo "| code | N | cores | ratio by round | median |"
+      echo "|---|---|---|---|---|"
+      tail -n +2 "$RESULTS" | awk -F'\t' '
+          NF >= 10 && $5 > 0 {
+            key = $1 "\t" $2 "\t" $3
+            if (!(key in seen)) order[++keys] = key
+            t[key, ++seen[key]] = $5
           }
-        }'
+          END {
+            for (k = 1; k <= keys; k++) {
+              key = order[k]; split(key, f, "\t")
+              lig = "liggghts\t" f[2] "\t1"
+              if (!(lig in seen) || key == lig) continue
+              n = 0; list = ""
+              for (r = 1; r <= seen[key] && r <= seen[lig]; r++) {
+                q[++n] = t[lig, r] / t[key, r]
+                list = list (n > 1 ? ", " : "") sprintf("%.2f", q[n])
+              }
+              for (a = 1; a <= n; a++) for (b = a + 1; b <= n; b++) if (q[b] < q[a]) { x = q[a]; q[a] = q[b]; q[b] = x }
+              m = (n % 2) ? q[(n + 1) / 2] : 0.5 * (q[n / 2] + q[n / 2 + 1])
+              printf "| %s | %s | %s | %s | %.2f |\n", f[1], f[2], f[3], list, m
+            }
+          }'
     fi
   fi
   if [ "$(wc -l <"$ALTERNATING")" -gt 1 ]; then
