@@ -41,11 +41,14 @@ class PairForces final : public ForcePass {
 
   void add_forces(ForceContext& c) override {
     Particles& p = c.particles;
-    const auto pairs = touching_pairs(p);
+    auto pairs = touching_pairs(p);  // (i, j) with id_i < id_j
     active_ = pairs.size();
-    // Both `pairs` and `history_` are sorted by (id_i, id_j): the old spring of a contact is
-    // found by walking a cursor through the old history (a merge), and entries the cursor
-    // skips are contacts that ended.
+    std::sort(pairs.begin(), pairs.end(), [&](const auto& a, const auto& b) {
+      return visited_before(Key(p[a.first].id, p[a.second].id), Key(p[b.first].id, p[b.second].id));
+    });
+    // Both `pairs` and `history_` are in visit order: the old spring of a contact is found by
+    // walking a cursor through the old history (a merge), and entries the cursor skips are
+    // contacts that ended.
     History next_history;
     auto old = history_.begin();
     for (const auto& [i, j] : pairs) {
@@ -70,7 +73,7 @@ class PairForces final : public ForcePass {
       ContactForce f;
       if constexpr (kFriction) {
         const Key key(a.id, b.id);
-        for (; old != history_.end() && old->first < key; ++old) c.dissipated += ended(old->second);
+        for (; old != history_.end() && visited_before(old->first, key); ++old) c.dissipated += ended(old->second);
         TangentialSpring spring;  // a new contact starts with xi = 0, k_t = 0
         if (old != history_.end() && old->first == key) spring = (old++)->second;
         k.relative_displacement_previous_arms =
@@ -101,7 +104,9 @@ class PairForces final : public ForcePass {
   void save(EngineState& state) const override {
     state.contact_counts.particle_pairs = active_;
     if constexpr (kFriction) {
-      for (const auto& [key, spring] : history_) {
+      History sorted = history_;  // checkpoints list them by (id_a, id_b)
+      std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (const auto& [key, spring] : sorted) {
         state.contacts.push_back({Record::Kind::kParticlePair, key.first, key.second, spring});
       }
     }
@@ -120,6 +125,7 @@ class PairForces final : public ForcePass {
       }
       history.emplace_back(key, r.spring);
     }
+    std::sort(history.begin(), history.end(), [](const auto& a, const auto& b) { return visited_before(a.first, b.first); });
     history_ = std::move(history);
   }
 
@@ -129,7 +135,17 @@ class PairForces final : public ForcePass {
   std::size_t active_ = 0;
   using Key = std::pair<std::int64_t, std::int64_t>;  // (id_i, id_j), id_i < id_j
   using History = std::vector<std::pair<Key, TangentialSpring>>;
-  History history_;  // sorted by key; the seed's contact_list
+  /// The order in which the pass visits the pairs: by the lower id DEScending, then by the
+  /// higher id ascending. With Newton's third law applied at each pair, every particle then
+  /// receives its contacts with higher-id partners (ascending id) first and those with
+  /// lower-id partners (descending id) after them, before the boundary pass adds its
+  /// boundaries. This fixed order is the one the fast engine sums in (docs/dem.md,
+  /// "Reproducibility argument"): the first part in its pass over the contacts each particle
+  /// evaluates, the rest in the pass over the partners' results.
+  static bool visited_before(const Key& a, const Key& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  }
+  History history_;  // in visit order; the seed's contact_list
 };
 
 /// Particle-boundary contacts: the boundary is body j with infinite mass and radius, so

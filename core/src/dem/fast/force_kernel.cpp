@@ -1,27 +1,30 @@
 // The fast engine's force kernel: one template per (law, friction, walls, other boundaries,
 // several materials), chosen once at construction (make_force_kernel). A one-material scene
-// runs the kernel without the pair-law lookup (kMulti = false: the one law is a member). Each particle adds all of ITS contacts
-// (full neighbour list) in ascending order of the partner's id, then its
-// boundary contacts in boundary order: the order in which the reference engine adds them to
-// that particle (reference/src/dem/force_passes.hpp), with each contact bitwise the negation
-// of the reference's (i, j) evaluation when this particle is j. No thread writes another
-// particle's data, so the loop needs no atomics; per-particle results are independent of
-// the number of threads.
+// runs the kernel without the pair-law lookup (kMulti = false: the one law is a member). Each
+// particle adds all of ITS contacts (full neighbour list): those with higher-id partners in
+// ascending id, then those with lower-id partners in descending id, then its boundary
+// contacts in boundary order. That is the order in which the reference engine adds them to
+// that particle (its pair pass visits the pairs by lower id descending, reference/src/dem/
+// force_passes.hpp), with each contact bitwise the negation of the reference's (i, j)
+// evaluation when this particle is j. No thread writes another particle's data, so the loop
+// needs no atomics; per-particle results are independent of the number of threads.
 //
 // Each pair once (frictional kernels, kHalf). A pair of two owned particles is evaluated only
 // by its lower-id side, as the reference does; the evaluation stores its force and both
 // torques (PairResult, next to the spring, found through the spring's code), and only that
 // side keeps the history (the other side's is its exact mirror: fast_engine.cpp derives it
-// when the list is rebuilt). A second pass, after a barrier, sums each particle's contacts
-// in the order above: its own results, the negated results of its lower-id partners (-f and
-// -(r_j x f) are bitwise the partner side's f' and r' x f'), then its boundary records; at the
-// end of a step it also applies the particle's closing kick (close_kick, fast_state.hpp) while
-// f and t are in registers, instead of a separate pass of the engine. Each
-// pass writes only its own particles' data, so neither needs atomics. A ghost partner's pair
-// is evaluated from this side as before (the ghost's own rank evaluates its side). Measured
-// on the settled 10,000-particle bench bed (docs/performance.md): 1.17x on one thread; writing
-// the other side's mirrored history at every evaluation instead made it 8 % slower than
-// evaluating every pair twice (a scattered 104-byte write per contact).
+// when the list is rebuilt). The first pass sums each particle's own (higher-id) contacts
+// right after their evaluation, into f and t. A second pass, after a barrier, adds the
+// negated results of its lower-id partners (-f and -(r_j x f) are bitwise the partner side's
+// f' and r' x f') and then its boundary records; at the end of a step it also applies the
+// particle's closing kick (close_kick, fast_state.hpp) while f and t are in registers,
+// instead of a separate pass of the engine. Each pass writes only its own particles' data, so
+// neither needs atomics. A ghost partner's pair is evaluated from this side as before (the
+// ghost's own rank evaluates its side). Measured on the settled 10,000-particle bench bed
+// (docs/performance.md): 1.17x on one thread; writing the other side's mirrored history at
+// every evaluation instead made it 8 % slower than evaluating every pair twice (a scattered
+// 104-byte write per contact). Summing the own contacts in the first pass (so the second
+// reads only the lower-id half of the slots): about 7 % of a step.
 //
 // Chunks (frictional kernels). The first pass takes 64 particles at a time: it lists their
 // slots' touching pairs (and the contacts that ended, whose stored energy is lost) in slot
@@ -409,7 +412,9 @@ class Kernel final : public ForceKernel {
           entries_of[chunk_end - chunk] = count;
           evaluate_contacts(s, entries, contacts, contact_count, dt);
           for (std::size_t i = chunk; i < chunk_end; ++i) {
-            Vec3 force = Vec3::Zero();  // added by the second pass
+            // The sum's first part: the contacts with higher-id partners (this side's results,
+            // in slot order = ascending partner id); the sum pass adds the rest to it.
+            Vec3 force = Vec3::Zero();
             Vec3 torque = Vec3::Zero();
             double elastic = 0.0, dissipated = 0.0;
             for (std::uint32_t e = entries_of[i - chunk]; e < entries_of[i + 1 - chunk]; ++e) {
@@ -419,6 +424,9 @@ class Kernel final : public ForceKernel {
                 continue;
               }
               if (entry.kind != PairEntry::kContactUpper) continue;  // each pair's energy once, on its lower-id side
+              const PairResult& result = s.result_at(entry.code);
+              force += result.force;
+              torque += result.torque_i;
               if constexpr (kEnergy) {
                 elastic += entry.elastic;
                 dissipated += entry.dissipated;
@@ -430,6 +438,8 @@ class Kernel final : public ForceKernel {
               }
             }
             boundaries_and_stores(i, force, torque, elastic, dissipated);
+            s.f[i] = force;  // the part from higher-id partners (the sum pass reads it)
+            s.t[i] = torque;
           }
         }
       } else {
@@ -440,14 +450,20 @@ class Kernel final : public ForceKernel {
           const Vec3 xi = s.x[i];
           const double ri = s.radius[i];
           const std::int64_t idi = s.id[i];
-          // Frictionless: every pair from both sides, in ascending partner id; `upper`: the
-          // partner's id is above idi (each pair's energy and count once, on that side).
-          for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
+          // Frictionless: every pair from both sides, the higher-id partners in ascending id,
+          // then the lower-id ones in descending id (the slots are in ascending id); `upper`:
+          // the partner's id is above idi (each pair's energy and count once, on that side).
+          const std::uint32_t first = s.first[i];
+          const std::uint32_t end = s.first[i + 1];
+          const auto upper_first = static_cast<std::uint32_t>(
+              std::partition_point(s.partner.begin() + first, s.partner.begin() + end,
+                                   [&](std::uint32_t k) { return s.id[k] < idi; }) -
+              s.partner.begin());
+          auto add_contact = [&](std::uint32_t slot, bool upper) {
             const std::uint32_t j = s.partner[slot];
-            const bool upper = idi < s.id[j];
             const Vec3 d = xi - s.x[j];  // from j to i
             const double reach = ri + s.radius[j];
-            if (!(d.squaredNorm() < reach * reach)) continue;
+            if (!(d.squaredNorm() < reach * reach)) return;
             const PairKinematics p = pair_kinematics(s, i, j, d);
             const ContactKinematics& k = p.k;
             const ContactForce f = normal_contact_force(pair_law(s, i, j), k, dt);
@@ -464,7 +480,9 @@ class Kernel final : public ForceKernel {
                 keep_deeper(out.deepest, LargestOverlap{ratio, k.overlap, idi, s.id[j], false});
               }
             }
-          }
+          };
+          for (std::uint32_t slot = upper_first; slot < end; ++slot) add_contact(slot, true);
+          for (std::uint32_t slot = upper_first; slot-- > first;) add_contact(slot, false);
           boundaries_and_stores(i, force, torque, elastic, dissipated);
         }
       }
@@ -514,28 +532,25 @@ class Kernel final : public ForceKernel {
         const auto sums_started = std::chrono::steady_clock::now();
         const std::size_t last = cut(range + 1);
         for (std::size_t i = cut(range); i < last; ++i) {
-          Vec3 force = Vec3::Zero();
-          Vec3 torque = Vec3::Zero();
-          // Own results: this side's slot holds the code. A slot without contact adds a zero
-          // result instead of being skipped (no branch, which mispredicted about 2.9 times per
-          // particle): the sum starts at +0 and a sum of doubles is -0 only if both terms are,
-          // so it is never -0 and adding +0 (or -0) leaves every bit of it unchanged.
-          auto add_own = [&](std::uint32_t slot) {
-            const PairResult& r = result_or_zero(s, s.spring_of[slot]);
-            force += r.force;
-            torque += r.torque_i;
-          };
-          const std::uint32_t upper_first = s.upper_first[i];
-          for (std::uint32_t slot = s.first[i]; slot < upper_first; ++slot) {
+          // The first pass's sum of the higher-id partners' contacts, then the lower-id
+          // partners' in descending id. A slot without contact adds a zero result instead of
+          // being skipped (no branch, which mispredicted about 2.9 times per particle): the
+          // sum started at +0 and a sum of doubles is -0 only if both terms are, so it is
+          // never -0 and adding +0 (or -0) leaves every bit of it unchanged.
+          Vec3 force = s.f[i];
+          Vec3 torque = s.t[i];
+          const std::uint32_t first = s.first[i];
+          for (std::uint32_t slot = s.upper_first[i]; slot-- > first;) {
             if (has_ghosts && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
-              add_own(slot);
+              const PairResult& r = result_or_zero(s, s.spring_of[slot]);
+              force += r.force;
+              torque += r.torque_i;
               continue;
             }
             const PairResult& r = result_or_zero(s, s.lower_code[slot]);  // the lower-id side's
             force += -r.force;
             torque += -r.torque_j;
           }
-          for (std::uint32_t slot = upper_first; slot < s.first[i + 1]; ++slot) add_own(slot);
           if constexpr (kRecords) {
             for (std::uint32_t k = s.next_record_first[i]; k < s.next_record_first[i + 1]; ++k) {
               const BoundaryRecord& record = s.next_records[k];

@@ -11,14 +11,16 @@
 ///     for both particles), no Newton-3, so OpenMP threads never write the same particle and
 ///     need no atomics; rebuilt when the largest displacement since the last build exceeds
 ///     half the skin (the seed's pos_accum); cells of side >= 2 R_max + skin;
-///   - each particle sums its contact forces in ascending order of the partner's id, which is
-///     the order in which the reference (pairs sorted by (id_i, id_j), Newton 3) adds them.
+///   - each particle sums its contact forces with higher-id partners in ascending id, then
+///     those with lower-id partners in descending id, which is the order in which the
+///     reference (pairs visited by lower id descending, Newton 3) adds them.
 ///     Without friction each particle computes each contact from its own side, which is
 ///     bitwise the negation of the other side (IEEE negation is exact; tests/dem invariants
 ///     ContactForce.IsEqualAndOpposite). With friction a pair of particles owned by the same
 ///     rank is evaluated once, by its lower-id side (as the reference), which stores the
-///     force and both torques; a second pass after a barrier adds them to both particles in
-///     partner-id order (the other side adds the exact negations). Either way forces, torques
+///     force and both torques and sums its own contacts at once; a second pass after a
+///     barrier adds the lower-id partners' results in that order (the exact negations).
+///     Either way forces, torques
 ///     and trajectories equal the reference's bit for bit;
 ///   - the contact history of a pair is kept by its lower-id side (a ghost's pair by both
 ///     ranks, mirrored), keyed by the partner's global id and carried over by id when the list
@@ -41,8 +43,8 @@
 /// Cartesian bricks, each rank owning the particles whose centre lies in its brick, ghosts
 /// within 2 R_max + skin of it; halo and migrate plans built at every list build (the rebuild
 /// decision is the maximum over ranks), the halo refreshed after every drift; contact
-/// histories migrate with their particle. Per-particle forces are summed in partner-id order
-/// and global sums in construction order, so the trajectories, energies and outputs are BIT
+/// histories migrate with their particle. Per-particle forces are summed in an order of the partners'
+/// global ids and global sums in construction order, so the trajectories, energies and outputs are BIT
 /// FOR BIT those of one rank. With more than one rank, particles(), energies(), save_state()
 /// and restore_state() are collective (every rank calls them, in the same order) and return
 /// the whole system on every rank; the other queries are global values cached at each step.
