@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -14,6 +15,7 @@
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/ordered_sum.hpp"
 #include "ppohdem/dem/particle_generator.hpp"
+#include "ppohdem/dem/run_diagnostics.hpp"
 #include "ppohdem/reference/dem/reference_engine.hpp"
 #include "../../core/src/dem/fast/fast_state.hpp"  // balance_split (internal)
 
@@ -206,6 +208,55 @@ TEST_P(FastAgainstReference, UntrackedEnergiesLeaveTheTrajectoriesBitwiseUnchang
   EXPECT_TRUE(std::isfinite(fast.energies().dissipated));
   if (GetParam() != SceneKind::kHertzFrictionlessFree) {
     EXPECT_GT(fast.energies().dissipated, 0.0);
+  }
+}
+
+// Untracked on one rank, the fast engine sums no energies, loads or escapes at every step
+// (FastEngine::Impl::lazy_sums): asked, it gives the tracked engine's values bit for bit (the
+// same terms in the same order), and its screen of the motion (motion_finite, from the closing
+// kick) fails as soon as one velocity or angular velocity is not finite, so the run checks
+// still stop such a run.
+TEST(FastEngineUntracked, SumsWhenAskedAndScreensTheMotion) {
+  const SimulationSetup tracked = scene(SceneKind::kLinearFrictionWallsObject);  // walls, lid, object
+  SimulationSetup untracked = tracked;
+  untracked.energy_balance = false;
+  FastEngine fast(tracked);
+  FastEngine lazy(untracked);
+  for (int block = 0; block < 2; ++block) {
+    fast.advance(75);
+    lazy.advance(75);
+    const std::vector<BoundaryLoad> want = fast.boundary_loads();
+    const std::vector<BoundaryLoad> got = lazy.boundary_loads();
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t b = 0; b < want.size(); ++b) {
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(got[b].force[c], want[b].force[c]) << "boundary " << b;
+        EXPECT_EQ(got[b].moment_about_origin[c], want[b].moment_about_origin[c]) << "boundary " << b;
+      }
+    }
+    EXPECT_NE(want[0].force.z(), 0.0);  // not vacuous: the floor carries the bed
+    EXPECT_EQ(lazy.energies().kinetic, fast.energies().kinetic);
+    EXPECT_EQ(lazy.escaped_count(), fast.escaped_count());
+    EXPECT_TRUE(lazy.motion_finite());
+  }
+  // A checkpoint (saved from the lazy engine: its loads summed when asked) restores the same run.
+  const EngineState state = lazy.save_state();
+  ASSERT_EQ(state.boundary_loads.size(), fast.boundary_loads().size());
+  EXPECT_EQ(state.boundary_loads[0].force.z(), fast.boundary_loads()[0].force.z());
+  // One non-finite component of a velocity or a spin enters the state; after one step the
+  // screen fails and the run checks name the particle.
+  for (const bool spin : {false, true}) {
+    EngineState broken = state;
+    Vec3& value = spin ? broken.particles[7].angular_velocity : broken.particles[7].velocity;
+    value.y() = std::numeric_limits<double>::quiet_NaN();
+    FastEngine engine(untracked);
+    engine.restore_state(broken);
+    RunDiagnostics checks(untracked, RunChecks{}, engine.energies());
+    engine.step();
+    EXPECT_FALSE(engine.motion_finite()) << (spin ? "spin" : "velocity");
+    const std::optional<std::string> diagnosis = checks.check(engine);
+    ASSERT_TRUE(diagnosis.has_value()) << (spin ? "spin" : "velocity");
+    EXPECT_NE(diagnosis->find("is not finite"), std::string::npos) << *diagnosis;
   }
 }
 

@@ -218,6 +218,20 @@ TEST(RunDiagnosticsCli, ParticleThroughAWall) {
   expect_inspectable(f, 1);
 }
 
+TEST(RunDiagnosticsCli, ParticleThroughAWallFastUntracked) {
+  // The same escape in the fast engine without energy tracking, which counts the escapes only
+  // when asked (FastEngine::escaped_count): the run checks still see it at step 1.
+  const auto f = run_broken("escape_fast", "7,0,0,0.0015,0,0,-200,0,0,0,0.001\n",
+                            std::string("[simulation]\ndt = 1e-5\nsteps = 100\nenergy_balance = false\n") +
+                                kHertz + "[[wall]]\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n",
+                            "--engine fast");
+  EXPECT_NE(f.result.output.find("particle id 7 left the domain"), std::string::npos) << f.result.output;
+  EXPECT_EQ(f.result.exit_code, 1) << f.result.output;
+  EXPECT_EQ(stopped_step(f.result.output), 1) << f.result.output;
+  EXPECT_EQ(read_checkpoint(f.dir / "out" / "failed_checkpoint.bin").engine.step, 1);
+  fs::remove_all(f.dir);
+}
+
 TEST(RunDiagnosticsCli, ParticleOutOfTheDomainBox) {
   // 1 m/s along x from 0.5 mm inside the box [0, 0.01]^3: out after 0.5 mm / (1 m/s * 1e-5 s)
   // = 50 steps (the centre is exactly on the face at step 50, outside at 51).

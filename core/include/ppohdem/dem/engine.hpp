@@ -13,6 +13,7 @@
 ///   v(n+1)   = v(n+1/2) + a(n+1) dt/2,      w(n+1) = w(n+1/2) + alpha(n+1) dt/2
 /// with a = F/m + g, alpha = T/I. For constant acceleration this is exact (free fall).
 /// Contacts are evaluated in (id_i, id_j) order so results do not depend on storage order.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -120,6 +121,14 @@ class DemEngine {
   /// Particles in the order given at construction; force/torque from the last evaluation.
   virtual const Particles& particles() const = 0;
   virtual Energies energies() const = 0;
+  /// A cheap screen for the per-step run checks (run_diagnostics.hpp): false if some
+  /// position, velocity or angular velocity may not be finite (then the checks scan the
+  /// particles). Default: the sum of the kinetic, rotational and gravitational energies is
+  /// finite (it is not as soon as one of those values is not).
+  virtual bool motion_finite() const {
+    const Energies e = energies();
+    return std::isfinite(e.kinetic + e.rotational + e.gravitational);
+  }
   virtual ContactCounts contact_counts() const = 0;
   /// Particles whose centre crossed a boundary (counted once each; they are then ignored by
   /// that boundary). A warning is printed on stderr the first time.

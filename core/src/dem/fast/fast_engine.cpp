@@ -165,8 +165,10 @@ struct FastEngine::Impl {
   /// SimulationSetup::energy_balance; false: the four accumulators above stay zero (the kernel
   /// computes no energy terms) and energies() reports the contact terms as NaN.
   bool energy_balance = true;
-  std::vector<BoundaryLoad> loads;
-  std::size_t escaped = 0;  ///< whole system
+  mutable std::vector<BoundaryLoad> loads;
+  /// lazy_sums(): `loads` is not yet the last evaluation's (boundary_loads() sums them).
+  mutable bool loads_stale = false;
+  std::size_t escaped = 0;  ///< whole system (not kept up to date when lazy_sums())
   mutable Particles out;  ///< particles() in construction order (whole system)
   mutable bool out_valid = false;
   // Halo plan (built at every list build, applied after every drift): send[r] = storage indices
@@ -178,6 +180,12 @@ struct FastEngine::Impl {
   std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
 
   bool distributed() const { return comm->size() > 1; }
+  /// One rank without energy tracking: no sum over the particles runs every step. The
+  /// kinetic, rotational and gravitational energies, the boundary loads and the escaped count
+  /// are summed when asked (the same terms in the same order, so the same bits), and the run
+  /// checks screen the motion with close_kick's screen (motion_finite). Measured: about 7 %
+  /// of a step of the settling bed (docs/performance.md).
+  bool lazy_sums() const { return !energy_balance && !distributed(); }
   /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
   bool kick_cached = false;
   /// One rank: (kinetic, rotational, gravitational) energy of the state after the last step,
@@ -185,7 +193,7 @@ struct FastEngine::Impl {
   std::array<double, 3> motion_sums{};
   bool motion_valid = false;
   std::vector<std::array<double, 7>> block_sums;  ///< reduce_one_rank's per-block partial sums
-  std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
+  mutable std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   struct Probe {  ///< a centre and radius in search_neighbours' member order [m]
     double x, y, z, r;
@@ -696,9 +704,15 @@ struct FastEngine::Impl {
   void evaluate_forces(double history_dt, bool closing_kick = false) {
     s.closing_kick = closing_kick;
     s.kick_closed = false;
+    s.motion_terms = !lazy_sums();
     kernel->evaluate(s, static_cast<double>(steps) * s.dt, history_dt);
     motion_valid = false;
     if (closing_kick) close_step();
+    if (lazy_sums()) {  // energies(), boundary_loads() and escaped_count() sum when asked
+      loads_stale = true;
+      out_valid = false;
+      return;
+    }
     if (!distributed()) {
       reduce_one_rank(history_dt, closing_kick);
       return;
@@ -808,8 +822,31 @@ struct FastEngine::Impl {
     block[boundary].moment_about_origin += point.cross(-force);
   }
 
+  /// Adds minus the forces of particle k's boundary records to the loads `block` (one per
+  /// boundary), in boundary order.
+  void add_records(BoundaryLoad* block, std::size_t k) const {
+    for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
+      add_load(block, s.records[r].boundary, s.records[r].force, s.records[r].point);
+    }
+  }
+
+  /// lazy_sums(): the loads of the last evaluation, summed as reduce_one_rank sums them.
+  void sum_loads() const {
+    const std::size_t nb = s.boundaries.size();
+    const std::size_t count = sum_blocks(total);
+    block_loads.assign(count * nb, BoundaryLoad{});
+    PPOHDEM_OMP(omp parallel for schedule(static) if (total >= kParallelMin))
+    for (std::size_t b = 0; b < count; ++b) {
+      for (std::size_t o = b * kSumBlock; o < std::min(total, (b + 1) * kSumBlock); ++o) {
+        add_records(block_loads.data() + b * nb, s.where[o]);
+      }
+    }
+    add_block_loads();
+    loads_stale = false;
+  }
+
   /// loads = the blocks' loads (block_loads, blocks x boundaries) added in block order from zero.
-  void add_block_loads() {
+  void add_block_loads() const {
     const std::size_t nb = s.boundaries.size();
     loads.assign(nb, BoundaryLoad{});
     for (std::size_t first = 0; first < block_loads.size(); first += nb) {
@@ -861,9 +898,7 @@ struct FastEngine::Impl {
           sum[5] += c.rotational;
           sum[6] += c.gravitational;
         }
-        for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
-          add_load(to, s.records[r].boundary, s.records[r].force, s.records[r].point);
-        }
+        add_records(to, k);
       }
       block_sums[b] = sum;
     }
@@ -887,8 +922,10 @@ struct FastEngine::Impl {
   void close_step() {
     if (!s.kick_closed) {  // else the kernel's sum pass applied it (fast_state.hpp)
       const std::size_t owned = s.owned;  // changed if the build migrated particles
-      PPOHDEM_OMP(omp parallel for schedule(static) if (owned >= kParallelMin))
-      for (std::size_t i = 0; i < owned; ++i) close_kick(s, i);
+      double screen = 0.0;
+      PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : screen) if (owned >= kParallelMin))
+      for (std::size_t i = 0; i < owned; ++i) screen += close_kick(s, i);
+      s.screen = screen;
     }
     kick_cached = true;
   }
@@ -1065,9 +1102,26 @@ ContactCounts FastEngine::contact_counts() const {
   return {impl_->s.pair_contacts, impl_->s.boundary_contacts};
 }
 
-std::size_t FastEngine::escaped_count() const { return impl_->escaped; }
+std::size_t FastEngine::escaped_count() const {
+  const Impl& m = *impl_;
+  if (m.lazy_sums()) {
+    return static_cast<std::size_t>(std::count_if(m.s.escaped_via.begin(), m.s.escaped_via.begin() + static_cast<std::ptrdiff_t>(m.s.owned),
+                                                  [](std::int32_t via) { return via != 0; }));
+  }
+  return m.escaped;
+}
 
-std::vector<BoundaryLoad> FastEngine::boundary_loads() const { return impl_->loads; }
+std::vector<BoundaryLoad> FastEngine::boundary_loads() const {
+  if (impl_->loads_stale) impl_->sum_loads();
+  return impl_->loads;
+}
+
+bool FastEngine::motion_finite() const {
+  const Impl& m = *impl_;
+  // The screen of the last closing kick (after a (re)load there is none yet: the energies').
+  if (m.lazy_sums() && m.kick_cached) return std::isfinite(m.s.screen);
+  return DemEngine::motion_finite();
+}
 
 std::optional<LargestOverlap> FastEngine::largest_overlap() const {
   // The reference reports ratio 0 (no contact) as an empty record; so do we.
@@ -1151,6 +1205,7 @@ EngineState FastEngine::save_state() const {
     }
   }
   std::sort(state.escaped_ids.begin(), state.escaped_ids.end());
+  if (m.loads_stale) m.sum_loads();
   state.boundary_loads = m.loads;
   state.contact_counts = contact_counts();
   state.boundary_power = m.power;  // P(n), for the next trapezoid step of boundary_work
@@ -1200,6 +1255,7 @@ void FastEngine::restore_state(const EngineState& state) {
   m.dissipated = state.accumulators.dissipated;
   m.boundary_work = state.accumulators.boundary_work;
   m.loads = state.boundary_loads;
+  m.loads_stale = false;
   m.power = state.boundary_power;
   m.escaped = state.escaped_ids.size();
   s.deepest.reset();  // of the evaluation before the checkpoint: not saved (as the reference)

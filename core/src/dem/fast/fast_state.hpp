@@ -83,6 +83,7 @@ struct alignas(64) ThreadOutput {
   std::vector<std::uint32_t> newly_escaped;  ///< storage indices
   std::optional<LargestOverlap> deepest;     ///< of this thread's contacts
   std::size_t base = 0;                      ///< offset of `records` in the merged records
+  double screen = 0.0;  ///< the sum of close_kick's screens over this range's particles
   /// Spring codes of this range's contacts that ended since the pools were laid out: reused
   /// for its next new contacts, so a bed whose contacts open and close between list builds
   /// does not grow its pools (friction only; emptied by lay_out_springs).
@@ -259,6 +260,12 @@ struct FastState {
   /// particle's sums, and then sets kick_closed; otherwise the engine applies it afterwards.
   bool closing_kick = false;
   bool kick_closed = false;
+  /// close_kick writes each particle's motion energy terms (kinetic, rotational,
+  /// gravitational) for the per-step sums; false when nothing sums them every step (one rank,
+  /// energy_balance = false: energies() sums them when asked, fast_engine.cpp).
+  bool motion_terms = true;
+  /// The sum of close_kick's screens over the owned particles at the last closing kick.
+  double screen = 0.0;
   // --- results of the last evaluation ---
   std::size_t pair_contacts = 0;
   std::size_t boundary_contacts = 0;
@@ -456,18 +463,24 @@ inline std::array<double, 3> motion_terms(const FastState& s, std::size_t k) {
 /// The second half kick of particle i, v(n+1) = v(n+1/2) + a(n+1) dt/2 with a from f, t: the
 /// kick is kept in pv, pw for the next step's first half kick (FastEngine::Impl::step), and
 /// the particle's motion energy terms of the new state go to its terms record (summed in
-/// construction order with the contact terms: one line per particle).
-inline void close_kick(FastState& s, std::size_t i) {
+/// construction order with the contact terms: one line per particle) unless
+/// s.motion_terms is off. Returns |v|^2 + |w|^2 of the new state [m^2/s^2, 1/s^2]: summed
+/// over the particles, a screen that is not finite as soon as one component is not (the run
+/// checks' screen when the energies are not summed every step).
+inline double close_kick(FastState& s, std::size_t i) {
   const double half = 0.5 * s.dt;
   s.pv[i] = half * (s.f[i] / s.mass[i] + s.gravity);
   s.pw[i] = half * s.t[i] / s.inertia[i];
   s.v[i] += s.pv[i];
   s.w[i] += s.pw[i];
-  const std::array<double, 3> motion = motion_terms(s, i);
-  FastState::ParticleTerms& terms = s.terms[i];
-  terms.kinetic = motion[0];
-  terms.rotational = motion[1];
-  terms.gravitational = motion[2];
+  if (s.motion_terms) {
+    const std::array<double, 3> motion = motion_terms(s, i);
+    FastState::ParticleTerms& terms = s.terms[i];
+    terms.kinetic = motion[0];
+    terms.rotational = motion[1];
+    terms.gravitational = motion[2];
+  }
+  return s.v[i].squaredNorm() + s.w[i].squaredNorm();
 }
 
 /// A force evaluation: contact forces and torques of every OWNED particle at time `time` with

@@ -531,6 +531,7 @@ class Kernel final : public ForceKernel {
       for (std::size_t range = 0; range < ranges; ++range) {
         const auto sums_started = std::chrono::steady_clock::now();
         const std::size_t last = cut(range + 1);
+        double screen = 0.0;  // close_kick's
         for (std::size_t i = cut(range); i < last; ++i) {
           // The first pass's sum of the higher-id partners' contacts, then the lower-id
           // partners' in descending id. A slot without contact adds a zero result instead of
@@ -560,14 +561,19 @@ class Kernel final : public ForceKernel {
           }
           s.f[i] = force;
           s.t[i] = torque;
-          if (s.closing_kick) close_kick(s, i);  // while f and t are in registers
+          if (s.closing_kick) screen += close_kick(s, i);  // while f and t are in registers
         }
+        s.threads[range].screen = screen;
         s.sum_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - sums_started).count();
       }
     }
     }
     if constexpr (kHalf) {
       s.kick_closed = s.closing_kick;
+      if (s.closing_kick) {
+        s.screen = 0.0;
+        for (std::size_t range = 0; range < ranges; ++range) s.screen += s.threads[range].screen;
+      }
       if (++s.sum_evaluations >= kSumRecut) {
         s.sum_share = timed_shares(ranges, s.sum_share, s.sum_seconds);
         s.sum_seconds.assign(ranges, 0.0);
