@@ -2,8 +2,9 @@
 /// \file run_diagnostics.hpp
 /// Checks run_scene makes after EVERY step, so that a run that goes wrong stops within a
 /// step or two with a diagnosis instead of writing NaNs (docs/reliability.md). The per-particle
-/// scans run only when a cheap screen (energy sums not finite, the engine's escape count grown)
-/// says a particle is to be named: run_diagnostics.cpp. A failed check
+/// scans run only when a cheap screen (energy sums not finite, or DemEngine::motion_finite
+/// false when the energies are not tracked; the engine's escape count grown) says a particle
+/// is to be named: run_diagnostics.cpp. A failed check
 /// names the step, the particle id(s) and the likely cause; run_scene then writes
 /// failed_checkpoint.bin and throws RunFailure (`ppohdem simulate` exits with status 1).
 ///   non-finite   a position, velocity, angular velocity, force or torque is NaN or infinite
