@@ -151,7 +151,7 @@ struct FastState {
   /// exist for the first 32 boundaries, the others are always evaluated. Owned particles only.
   std::vector<std::uint32_t> near_boundaries;
   /// Per-particle energy terms, one 64-byte record each (one cache line): the contact terms of
-  /// the last evaluation, and (one rank, after a step's closing kick) the particle's kinetic,
+  /// the last evaluation (they stay zero when the energies are not tracked), and (one rank, after a step's closing kick) the particle's kinetic,
   /// rotational and gravitational energy. The one-rank sums visit them in construction order,
   /// a random order in storage, so one line per particle instead of one per term or array
   /// (measured: docs/performance.md "Sums from one line per particle").

@@ -338,11 +338,13 @@ class Kernel final : public ForceKernel {
           s.f[i] = force;
           s.t[i] = torque;
         }
-        FastState::ParticleTerms& terms = s.terms[i];
-        terms.elastic = elastic;
-        terms.dissipated = dissipated;
-        terms.work = work;
-        terms.power = power;
+        if constexpr (kEnergy) {  // else nothing sums them (they keep their zeros): 0.973-0.978 of the kernel
+          FastState::ParticleTerms& terms = s.terms[i];
+          terms.elastic = elastic;
+          terms.dissipated = dissipated;
+          terms.work = work;
+          terms.power = power;
+        }
         if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
       };
       if constexpr (kHalf) {
