@@ -258,10 +258,15 @@ struct FastEngine::Impl {
     const bool boundaries = s.record_first.size() == n + 1;
     // The code of the history slot `slot` of particle k carries, or kNoSpring: a pair of
     // owned particles keeps its history on the lower-id side only (the kernel evaluates it
-    // there), and this side's is its mirror.
+    // there), and this side's is its mirror. With one rank the mirror is not carried:
+    // install_history keeps only the lower-id side's (the pair stays owned by this rank, so
+    // its lower-id side stays the one that evaluates it), and only that side books a lost
+    // history. With several ranks it travels with its particle, which may leave the partner.
+    const bool mirrors = distributed();
     auto carried = [&](std::size_t k, std::uint32_t slot, bool& other_side) {
       const std::uint32_t j = s.partner[slot];
       other_side = j < n && s.id[j] < s.id[k];
+      if (other_side && !mirrors) return kNoSpring;
       const std::uint32_t code = other_side ? s.spring_of[s.mirror[slot]] : s.spring_of[slot];
       return code == kNoSpring || !keeps_history(s.spring_at(code)) ? kNoSpring : code;
     };
