@@ -561,26 +561,30 @@ struct FastEngine::Impl {
     link_mirrors();
   }
 
-  /// FastState::mirror: for each slot of an owned partner j, the slot of this particle in j's
-  /// list (the lists are symmetric between owned particles: the same reach and distance
-  /// decide both; each list is sorted by id, so a binary search finds it), and
-  /// FastState::upper_first. Frictional scenes only: without history every contact is
-  /// evaluated from both sides.
+  /// FastState::upper_first (every scene), and FastState::mirror: for each slot of an owned
+  /// partner j, the slot of this particle in j's list (the lists are symmetric between owned
+  /// particles: the same reach and distance decide both; each list is sorted by id, so a
+  /// binary search finds it). Mirrors for frictional scenes only: without history every
+  /// contact is evaluated from both sides.
   void link_mirrors() {
     const std::size_t n = s.owned;
+    s.upper_first.assign(n, 0);
+    auto find_upper_first = [&](std::size_t i) {
+      const auto upper = std::partition_point(s.partner.begin() + s.first[i], s.partner.begin() + s.first[i + 1],
+                                              [&](std::uint32_t k) { return s.id[k] < s.id[i]; });
+      s.upper_first[i] = static_cast<std::uint32_t>(upper - s.partner.begin());
+    };
     if (!s.friction) {
       s.mirror.clear();
-      s.upper_first.clear();
+      PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+      for (std::size_t i = 0; i < n; ++i) find_upper_first(i);
       return;
     }
     s.mirror.assign(s.partner.size(), kNoMirror);
     s.lower_codes_valid = false;
-    s.upper_first.assign(n, 0);
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t i = 0; i < n; ++i) {
-      const auto upper = std::partition_point(s.partner.begin() + s.first[i], s.partner.begin() + s.first[i + 1],
-                                              [&](std::uint32_t k) { return s.id[k] < s.id[i]; });
-      s.upper_first[i] = static_cast<std::uint32_t>(upper - s.partner.begin());
+      find_upper_first(i);
       for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
         if (j >= n) continue;
@@ -745,10 +749,8 @@ struct FastEngine::Impl {
     };
     std::vector<Load> all_records;
     std::vector<TermRow> term_rows;
-    std::size_t escaped_here = 0;
     const std::size_t owned = s.owned;
-    PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : escaped_here) if (owned >= kParallelMin))
-    for (std::size_t k = 0; k < owned; ++k) escaped_here += s.escaped_via[k] != 0 ? 1 : 0;
+    const std::size_t escaped_here = count_escaped();
     std::array<double, 7> sums{};  // (elastic, dissipated, work, power [J, J, J, W]; motion terms [J])
     {
       term_rows.resize(owned);
@@ -843,6 +845,12 @@ struct FastEngine::Impl {
     }
   }
 
+  /// Owned particles that have crossed a boundary (one rank: all of them).
+  std::size_t count_escaped() const {
+    return static_cast<std::size_t>(std::count_if(s.escaped_via.begin(), s.escaped_via.begin() + static_cast<std::ptrdiff_t>(s.owned),
+                                                  [](std::int32_t via) { return via != 0; }));
+  }
+
   /// lazy_sums(): the loads of the last evaluation, summed as reduce_one_rank sums them.
   void sum_loads() const {
     const std::size_t nb = s.boundaries.size();
@@ -923,9 +931,7 @@ struct FastEngine::Impl {
     }
     // A count (in storage order: the sums above visit the particles in construction order,
     // a random order in memory).
-    escaped = static_cast<std::size_t>(
-        std::count_if(s.escaped_via.begin(), s.escaped_via.begin() + static_cast<std::ptrdiff_t>(s.owned),
-                      [](std::int32_t via) { return via != 0; }));
+    escaped = count_escaped();
     add_block_loads();
     out_valid = false;
   }
@@ -1117,11 +1123,7 @@ ContactCounts FastEngine::contact_counts() const {
 
 std::size_t FastEngine::escaped_count() const {
   const Impl& m = *impl_;
-  if (m.lazy_sums()) {
-    return static_cast<std::size_t>(std::count_if(m.s.escaped_via.begin(), m.s.escaped_via.begin() + static_cast<std::ptrdiff_t>(m.s.owned),
-                                                  [](std::int32_t via) { return via != 0; }));
-  }
-  return m.escaped;
+  return m.lazy_sums() ? m.count_escaped() : m.escaped;
 }
 
 std::vector<BoundaryLoad> FastEngine::boundary_loads() const {

@@ -179,7 +179,7 @@ struct FastState {
   /// (the list is sorted by id: [upper_first[i], first[i + 1]) are the pairs i evaluates and
   /// books the energy of; the slots before it hold the lower-id partners, whose owned ones
   /// evaluate the pair, while a lower-id ghost's pair is evaluated here too, force only).
-  /// Frictional kernels loop over the two parts separately instead of testing each slot's
+  /// The kernels loop over the two parts separately instead of testing each slot's
   /// side: the test is a coin toss for the branch predictor (callgrind --branch-sim: about
   /// 3.3 of the kernel's 11 mispredicted branches per particle in the settled bench bed).
   std::vector<std::uint32_t> upper_first;

@@ -458,10 +458,7 @@ class Kernel final : public ForceKernel {
           // the partner's id is above idi (each pair's energy and count once, on that side).
           const std::uint32_t first = s.first[i];
           const std::uint32_t end = s.first[i + 1];
-          const auto upper_first = static_cast<std::uint32_t>(
-              std::partition_point(s.partner.begin() + first, s.partner.begin() + end,
-                                   [&](std::uint32_t k) { return s.id[k] < idi; }) -
-              s.partner.begin());
+          const std::uint32_t upper_first = s.upper_first[i];
           auto add_contact = [&](std::uint32_t slot, bool upper) {
             const std::uint32_t j = s.partner[slot];
             const Vec3 d = xi - s.x[j];  // from j to i
