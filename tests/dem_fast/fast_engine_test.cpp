@@ -274,6 +274,8 @@ INSTANTIATE_TEST_SUITE_P(Scenes, FastAgainstReference,
 // The four-lane contact law (FastOptions::vector_contacts, on by default where the CPU has AVX)
 // against one contact at a time through the whole engine: the same bits in every particle and
 // in the energies (the same terms summed in the same order), with and without energy tracking.
+// Untracked, the four-lane law also adds the particles' own sums, counts the pairs and offers
+// the deepest contact (OwnSums): the counts and the deepest contact must match as well.
 TEST(FastEngine, VectorContactsGiveTheBitsOfOneAtATime) {
   for (const bool tracked : {true, false}) {
     SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls);
@@ -297,6 +299,10 @@ TEST(FastEngine, VectorContactsGiveTheBitsOfOneAtATime) {
       EXPECT_EQ(vector.contact_counts().particle_pairs, scalar.contact_counts().particle_pairs);
       ASSERT_TRUE(vector.largest_overlap().has_value());
       EXPECT_EQ(vector.largest_overlap()->ratio, scalar.largest_overlap()->ratio);
+      EXPECT_EQ(vector.largest_overlap()->overlap, scalar.largest_overlap()->overlap);
+      EXPECT_EQ(vector.largest_overlap()->id_a, scalar.largest_overlap()->id_a);
+      EXPECT_EQ(vector.largest_overlap()->id_b, scalar.largest_overlap()->id_b);
+      EXPECT_EQ(vector.largest_overlap()->boundary, scalar.largest_overlap()->boundary);
     }
     EXPECT_GT(vector.contact_counts().particle_pairs, 50u);  // not vacuous
   }

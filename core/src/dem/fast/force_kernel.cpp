@@ -32,7 +32,9 @@
 // order, evaluates the listed contacts (four at a time with AVX for one Hertz-Mindlin law:
 // hertz_mindlin_x4.hpp, the same bits), then books each particle's entries in slot order and
 // adds its boundaries, so every sum keeps the order of one particle at a time. Measured on the
-// settled bed: docs/performance.md "Four contacts at a time".
+// settled bed: docs/performance.md "Four contacts at a time". With the energies untracked the
+// four-lane law adds each particle's own contacts itself, in the same order (OwnSums), and
+// the booking has nothing left to do: docs/performance.md "The law adds its own sums".
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -106,12 +108,17 @@ class Kernel final : public ForceKernel {
 
   /// The contacts entries[contacts[k]], k < count, of a chunk (friction): springs, pair results and the entries'
   /// energies and overlaps. Four at a time (hertz_mindlin_x4) or one at a time, the same bits.
-  void evaluate_contacts(FastState& s, PairEntry* entries, const std::uint32_t* contacts, std::size_t count,
-                         double dt) const {
+  /// With AVX and the energies untracked, the law also adds the upper contacts to s.f, s.t,
+  /// counts them and offers them as the deepest (`sums`, OwnSums), so the booking has nothing
+  /// left to do; returns whether it did. With the energies tracked the booking still walks the
+  /// entries for their energy terms, and the law adding the forces as well was slower
+  /// (docs/performance.md "The law adds its own sums").
+  bool evaluate_contacts(FastState& s, PairEntry* entries, const std::uint32_t* contacts, std::size_t count,
+                         double dt, [[maybe_unused]] OwnSums& sums) const {
     if constexpr (kX4) {
       if (x4_) {
-        hertz_mindlin_x4<kEnergy>(law_, s, entries, contacts, count, dt);
-        return;
+        hertz_mindlin_x4<kEnergy>(law_, s, entries, contacts, count, dt, kEnergy ? nullptr : &sums);
+        return !kEnergy;
       }
     }
     for (std::size_t c = 0; c < count; ++c) {
@@ -139,6 +146,7 @@ class Kernel final : public ForceKernel {
       entry.dissipated = f.dissipated;
       entry.overlap = k.overlap;
     }
+    return false;
   }
 
   /// The law of particles i and j (storage indices), and of particle i with boundary b.
@@ -413,14 +421,23 @@ class Kernel final : public ForceKernel {
             for (std::uint32_t slot = upper_first; slot < s.first[i + 1]; ++slot) list(slot, true);
           }
           entries_of[chunk_end - chunk] = count;
-          evaluate_contacts(s, entries, contacts, contact_count, dt);
+          for (std::size_t i = chunk; i < chunk_end; ++i) {  // the law may add to them (OwnSums)
+            s.f[i] = Vec3::Zero();
+            s.t[i] = Vec3::Zero();
+          }
+          OwnSums sums{&out.deepest};
+          const bool summed = evaluate_contacts(s, entries, contacts, contact_count, dt, sums);
+          pairs += sums.pairs;
           for (std::size_t i = chunk; i < chunk_end; ++i) {
             // The sum's first part: the contacts with higher-id partners (this side's results,
-            // in slot order = ascending partner id); the sum pass adds the rest to it.
-            Vec3 force = Vec3::Zero();
-            Vec3 torque = Vec3::Zero();
+            // in slot order = ascending partner id); the sum pass adds the rest to it. The
+            // law has added them already where it could (`summed`: the same sums in the same
+            // order, OwnSums), else they are added here.
+            Vec3 force = s.f[i];
+            Vec3 torque = s.t[i];
             double elastic = 0.0, dissipated = 0.0;
-            for (std::uint32_t e = entries_of[i - chunk]; e < entries_of[i + 1 - chunk]; ++e) {
+            const std::uint32_t booked_end = summed ? entries_of[i - chunk] : entries_of[i + 1 - chunk];
+            for (std::uint32_t e = entries_of[i - chunk]; e < booked_end; ++e) {  // summed: nothing left to book
               const PairEntry& entry = entries[e];
               if (entry.kind == PairEntry::kEnded) {
                 dissipated += entry.dissipated;

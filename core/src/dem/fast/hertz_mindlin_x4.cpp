@@ -79,7 +79,8 @@ PPOHDEM_LANES void store4(double* to, D4 row) { _mm256_storeu_pd(to, reinterpret
 
 template <bool kEnergy>
 [[gnu::target("avx"), gnu::flatten]] void hertz_mindlin_x4_avx(const HertzMindlin& law, FastState& s, PairEntry* entries,
-                                                                const std::uint32_t* contacts, std::size_t count, double dt) {
+                                                                const std::uint32_t* contacts, std::size_t count, double dt,
+                                                                OwnSums* sums) {
   // The law's constants, each the scalar code's first product (contact_law.hpp).
   const D4 hertz_factor = broadcast(4.0 / 3.0 * law.effective_young());   // 4/3 E* [Pa]; K = this sqrt(R*)
   const D4 mindlin_factor = broadcast(8.0 * law.effective_shear());       // 8 G* [Pa]; k_t = this sqrt(R* delta)
@@ -235,6 +236,27 @@ template <bool kEnergy>
         entry[l]->dissipated = dissipated[l];
       }
     }
+    if (sums != nullptr) {
+      // The booking's ratio (force_kernel.cpp): overlap / std::min(r_i, r_j), four divisions
+      // in one instruction.
+      const D4 ratio = overlap / select(rj < ri, rj, ri);
+      for (std::size_t l = 0; l < 4 && first + l < count; ++l) {  // a repeated last lane is not added again
+        if (entry[l]->kind != PairEntry::kContactUpper) continue;  // a lower-id ghost's: the sum pass adds it
+        Vec3& f = s.f[i[l]];
+        f.x() += force.x[l];
+        f.y() += force.y[l];
+        f.z() += force.z[l];
+        Vec3& t = s.t[i[l]];
+        t.x() += torque_i.x[l];
+        t.y() += torque_i.y[l];
+        t.z() += torque_i.z[l];
+        ++sums->pairs;
+        std::optional<LargestOverlap>& deepest = *sums->deepest;
+        if (!deepest || ratio[l] >= deepest->ratio) {
+          keep_deeper(deepest, LargestOverlap{ratio[l], overlap[l], s.id[i[l]], s.id[j[l]], false});
+        }
+      }
+    }
   }
 }
 
@@ -247,8 +269,8 @@ bool x4_contacts_available() {
 
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
-                      std::size_t count, double dt) {
-  hertz_mindlin_x4_avx<kEnergy>(law, s, entries, contacts, count, dt);
+                      std::size_t count, double dt, OwnSums* sums) {
+  hertz_mindlin_x4_avx<kEnergy>(law, s, entries, contacts, count, dt, sums);
 }
 
 #else  // not x86-64 with GCC: never available, never called
@@ -256,13 +278,13 @@ void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries,
 bool x4_contacts_available() { return false; }
 
 template <bool kEnergy>
-void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t, double) {}
+void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t, double, OwnSums*) {}
 
 #endif
 
 template void hertz_mindlin_x4<true>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
-                                     double);
+                                     double, OwnSums*);
 template void hertz_mindlin_x4<false>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
-                                      double);
+                                      double, OwnSums*);
 
 }  // namespace ppohdem::dem::fast

@@ -19,14 +19,24 @@ namespace ppohdem::dem::fast {
 /// True if this CPU runs the AVX path (checked once; false off x86-64).
 bool x4_contacts_available();
 
+/// What the law can also do for the force kernel's first pass ("Each pair once",
+/// force_kernel.cpp), in place of a second loop over the evaluated entries: add each contact
+/// whose entry is kContactUpper to its particle's sums s.f[i] and s.t[i] (force and r_i x
+/// force, in the order of `contacts`, which the kernel zeroes first), count it, and offer it as
+/// the deepest contact (overlap / smaller radius, keep_deeper).
+struct OwnSums {
+  std::optional<LargestOverlap>* deepest = nullptr;  ///< the range's deepest contact so far
+  std::size_t pairs = 0;                             ///< contacts added
+};
+
 /// Evaluates the contacts entries[contacts[k]], k < count, of one Hertz-Mindlin law (one
 /// material), four at a time: the relative kinematics from the particles' state in `s`, the
 /// normal force, the tangential spring update (each contact's spring in s.spring_at(code)),
 /// the pair result (s.result_at(code): force on i and both torques) and the entry's overlap;
 /// with kEnergy also its elastic and dissipated energy (contact_force.hpp). `dt` is the history
-/// increment interval [s]. Requires x4_contacts_available().
+/// increment interval [s]. With `sums`, also what OwnSums says. Requires x4_contacts_available().
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
-                      std::size_t count, double dt);
+                      std::size_t count, double dt, OwnSums* sums = nullptr);
 
 }  // namespace ppohdem::dem::fast
