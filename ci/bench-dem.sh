@@ -73,7 +73,7 @@ bash ci/install-deps.sh --peers >&2
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 MPIRUN=(mpirun --oversubscribe --bind-to none -np 2)
 
-PPOHDEM="$ROOT/$BUILD_DIR/apps/ppohdem"
+case "$BUILD_DIR" in /*) PPOHDEM="$BUILD_DIR/apps/ppohdem" ;; *) PPOHDEM="$ROOT/$BUILD_DIR/apps/ppohdem" ;; esac  # --build-dir absolute or relative
 if [[ " $CODES " == *" ours "* ]] && [ ! -x "$PPOHDEM" ]; then
   echo "bench-dem: building ppohdem in $BUILD_DIR" >&2
   BUILD_DIR=$BUILD_DIR bash ci/build.sh >/dev/null
