@@ -1183,7 +1183,14 @@ EngineState FastEngine::save_state() const {
       for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
         if (s.spring_of[slot] == kNoSpring) continue;
-        const TangentialSpring& sp = s.spring_at(s.spring_of[slot]);
+        // A slot keeps a spring only while its pair touched at the last evaluation, whose
+        // positions these still are; the branch vectors are the ones it computed (the same
+        // expressions, pair_geometry), which the kernel stores only when the energies are
+        // tracked (their only other use): the checkpoint is the same either way.
+        TangentialSpring sp = s.spring_at(s.spring_of[slot]);
+        const PairGeometry g = pair_geometry(s, k, j, s.x[k] - s.x[j]);
+        sp.branch_i = g.r_i;
+        sp.branch_j = g.r_j;
         if (s.id[k] < s.id[j] && (sp.stiffness != 0.0 || sp.branch_i != Vec3::Zero())) {
           put(ContactHistoryRecord::Kind::kParticlePair, s.id[k], s.id[j], sp);
         }

@@ -273,6 +273,26 @@ struct FastState {
   std::size_t size() const { return id.size(); }
 };
 
+/// The contact geometry of touching particles i and j (storage indices) with d = x_i - x_j:
+/// the reference's expressions (reference/src/dem/force_passes.hpp), so the same bits. The
+/// force kernel evaluates every pair with it (force_kernel.cpp; hertz_mindlin_x4.cpp lane by
+/// lane), and save_state writes a pair history's branch vectors with it (fast_engine.cpp).
+struct PairGeometry {
+  Vec3 normal;    ///< unit, from j towards i
+  double overlap;  ///< delta [m]
+  Vec3 r_i, r_j;  ///< centre of i (of j) to the contact point [m]
+};
+inline PairGeometry pair_geometry(const FastState& s, std::size_t i, std::size_t j, const Vec3& d) {
+  const double ri = s.radius[i];
+  const double distance = d.norm();
+  PairGeometry g;
+  g.normal = d / distance;
+  g.overlap = ri + s.radius[j] - distance;
+  g.r_i = -(ri - 0.5 * g.overlap) * g.normal;
+  g.r_j = (s.radius[j] - 0.5 * g.overlap) * g.normal;
+  return g;
+}
+
 inline constexpr std::uint32_t kNotHere = 0xffffffffu;  ///< `where` of a particle owned elsewhere
 /// spring_of of a slot without history: the code of pool 0's first entry, a spring never used
 /// whose result stays zero, so the force kernel's sums read a zero result for a slot without

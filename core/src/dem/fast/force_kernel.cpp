@@ -73,14 +73,14 @@ struct PairKinematics {
   Vec3 r_i, r_j;  ///< centre of i (of j) to the contact point [m]
 };
 inline PairKinematics pair_kinematics(const FastState& s, std::size_t i, std::size_t j, const Vec3& d) {
+  const PairGeometry g = pair_geometry(s, i, j, d);
   const double ri = s.radius[i];
-  const double distance = d.norm();
   PairKinematics p;
   ContactKinematics& k = p.k;
-  k.normal = d / distance;
-  k.overlap = ri + s.radius[j] - distance;
-  p.r_i = -(ri - 0.5 * k.overlap) * k.normal;
-  p.r_j = (s.radius[j] - 0.5 * k.overlap) * k.normal;
+  k.normal = g.normal;
+  k.overlap = g.overlap;
+  p.r_i = g.r_i;
+  p.r_j = g.r_j;
   k.relative_velocity = (s.pv[i] + s.pw[i].cross(p.r_i)) - (s.pv[j] + s.pw[j].cross(p.r_j));
   k.pair.m_eff = pair_value(s.mass[i], s.mass[j]);
   k.pair.r_eff = pair_value(ri, s.radius[j]);
@@ -136,8 +136,10 @@ class Kernel final : public ForceKernel {
             dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
       }
       const ContactForce f = frictional_contact_force(pair_law(s, i, j), k, sp, dt);
-      sp.branch_i = r_i;
-      sp.branch_j = r_j;
+      if constexpr (kEnergy) {  // their only use (save_state writes them from the positions)
+        sp.branch_i = r_i;
+        sp.branch_j = r_j;
+      }
       PairResult& result = s.result_at(entry.code);
       result.force = f.on_i;
       result.torque_i = r_i.cross(f.on_i);

@@ -216,25 +216,30 @@ template <bool kEnergy>
     const V4 torque_j = cross(r_j, force);
     // Each lane's spring and result as rows of four consecutive doubles (the layouts checked
     // at the top of the file): four 32-byte stores and three scalar ones per contact instead of
-    // 19 scalar ones (measured: docs/performance.md, "What the law's stores cost").
+    // 19 scalar ones (measured: docs/performance.md, "What the law's stores cost"). The branch
+    // vectors only with kEnergy: nothing else reads them (save_state writes them from the
+    // positions), which saves a quarter of the law's time in stores (docs/performance.md
+    // "Branch vectors only where they are read"). The entry's overlap only for the booking.
     D4 rows[4];
     transpose(xi_new.x, xi_new.y, xi_new.z, k_t, rows);  // displacement, stiffness
     for (int l = 0; l < 4; ++l) store4(spring[l]->displacement.data(), rows[l]);
-    transpose(r_i.x, r_i.y, r_i.z, r_j.x, rows);  // branch_i, branch_j.x
-    for (int l = 0; l < 4; ++l) store4(spring[l]->branch_i.data(), rows[l]);
+    if constexpr (kEnergy) {
+      transpose(r_i.x, r_i.y, r_i.z, r_j.x, rows);  // branch_i, branch_j.x
+      for (int l = 0; l < 4; ++l) store4(spring[l]->branch_i.data(), rows[l]);
+    }
     transpose(force.x, force.y, force.z, torque_i.x, rows);  // force, torque_i.x
     for (int l = 0; l < 4; ++l) store4(result[l]->force.data(), rows[l]);
     transpose(torque_i.y, torque_i.z, torque_j.x, torque_j.y, rows);  // torque_i.y, .z, torque_j.x, .y
     for (int l = 0; l < 4; ++l) store4(result[l]->torque_i.data() + 1, rows[l]);
     for (int l = 0; l < 4; ++l) {
-      spring[l]->branch_j.y() = r_j.y[l];
-      spring[l]->branch_j.z() = r_j.z[l];
       result[l]->torque_j.z() = torque_j.z[l];
-      entry[l]->overlap = overlap[l];
       if constexpr (kEnergy) {
+        spring[l]->branch_j.y() = r_j.y[l];
+        spring[l]->branch_j.z() = r_j.z[l];
         entry[l]->elastic = elastic[l];
         entry[l]->dissipated = dissipated[l];
       }
+      if (sums == nullptr) entry[l]->overlap = overlap[l];
     }
     if (sums != nullptr) {
       // The booking's ratio (force_kernel.cpp): overlap / std::min(r_i, r_j), four divisions
@@ -242,14 +247,14 @@ template <bool kEnergy>
       const D4 ratio = overlap / select(rj < ri, rj, ri);
       for (std::size_t l = 0; l < 4 && first + l < count; ++l) {  // a repeated last lane is not added again
         if (entry[l]->kind != PairEntry::kContactUpper) continue;  // a lower-id ghost's: the sum pass adds it
-        Vec3& f = s.f[i[l]];
-        f.x() += force.x[l];
-        f.y() += force.y[l];
-        f.z() += force.z[l];
-        Vec3& t = s.t[i[l]];
-        t.x() += torque_i.x[l];
-        t.y() += torque_i.y[l];
-        t.z() += torque_i.z[l];
+        Vec3& force_sum = s.f[i[l]];
+        force_sum.x() += force.x[l];
+        force_sum.y() += force.y[l];
+        force_sum.z() += force.z[l];
+        Vec3& torque_sum = s.t[i[l]];
+        torque_sum.x() += torque_i.x[l];
+        torque_sum.y() += torque_i.y[l];
+        torque_sum.z() += torque_i.z[l];
         ++sums->pairs;
         std::optional<LargestOverlap>& deepest = *sums->deepest;
         if (!deepest || ratio[l] >= deepest->ratio) {
