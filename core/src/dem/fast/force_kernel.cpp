@@ -430,6 +430,14 @@ class Kernel final : public ForceKernel {
           OwnSums sums{&out.deepest};
           const bool summed = evaluate_contacts(s, entries, contacts, contact_count, dt, sums);
           pairs += sums.pairs;
+          if (summed) {  // nothing left to book; the boundaries' forces are added in the sum pass
+            for (std::size_t i = chunk; i < chunk_end; ++i) {
+              Vec3 unused_force, unused_torque;
+              double elastic = 0.0, dissipated = 0.0;
+              boundaries_and_stores(i, unused_force, unused_torque, elastic, dissipated);
+            }
+            continue;
+          }
           for (std::size_t i = chunk; i < chunk_end; ++i) {
             // The sum's first part: the contacts with higher-id partners (this side's results,
             // in slot order = ascending partner id); the sum pass adds the rest to it. The
@@ -438,8 +446,7 @@ class Kernel final : public ForceKernel {
             Vec3 force = s.f[i];
             Vec3 torque = s.t[i];
             double elastic = 0.0, dissipated = 0.0;
-            const std::uint32_t booked_end = summed ? entries_of[i - chunk] : entries_of[i + 1 - chunk];
-            for (std::uint32_t e = entries_of[i - chunk]; e < booked_end; ++e) {  // summed: nothing left to book
+            for (std::uint32_t e = entries_of[i - chunk]; e < entries_of[i + 1 - chunk]; ++e) {
               const PairEntry& entry = entries[e];
               if (entry.kind == PairEntry::kEnded) {
                 dissipated += entry.dissipated;
