@@ -515,23 +515,30 @@ class Kernel final : public ForceKernel {
       s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     }
     // The new boundary records: the ranges' blocks in range order are in storage order. Each
-    // range copies its block and offsets its particles' counts, in parallel.
+    // range copies its block and offsets its particles' counts, in parallel. One range's block
+    // is the table itself: swapped in instead (no copy of 160 bytes per boundary contact; the
+    // buffers rotate, keeping their capacity).
     if constexpr (kRecords) {
-      PPOHDEM_OMP(omp single)
-      {
-        std::size_t count = 0;
-        for (std::size_t range = 0; range < ranges; ++range) {
-          s.threads[range].base = count;
-          count += s.threads[range].records.size();
+      if (ranges == 1) {
+        PPOHDEM_OMP(omp single)
+        s.next_records.swap(s.threads[0].records);
+      } else {
+        PPOHDEM_OMP(omp single)
+        {
+          std::size_t count = 0;
+          for (std::size_t range = 0; range < ranges; ++range) {
+            s.threads[range].base = count;
+            count += s.threads[range].records.size();
+          }
+          s.next_records.resize(count);
         }
-        s.next_records.resize(count);
-      }
-      PPOHDEM_OMP(omp for schedule(static, 1))
-      for (std::size_t range = 0; range < ranges; ++range) {
-        const ThreadOutput& out = s.threads[range];
-        std::copy(out.records.begin(), out.records.end(), s.next_records.begin() + static_cast<std::ptrdiff_t>(out.base));
-        const auto base = static_cast<std::uint32_t>(out.base);
-        for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) s.next_record_first[i + 1] += base;
+        PPOHDEM_OMP(omp for schedule(static, 1))
+        for (std::size_t range = 0; range < ranges; ++range) {
+          const ThreadOutput& out = s.threads[range];
+          std::copy(out.records.begin(), out.records.end(), s.next_records.begin() + static_cast<std::ptrdiff_t>(out.base));
+          const auto base = static_cast<std::uint32_t>(out.base);
+          for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) s.next_record_first[i + 1] += base;
+        }
       }
     }
     // Each pair once: the sums, in the order of the comment at the top (after the barrier
