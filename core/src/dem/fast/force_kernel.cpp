@@ -106,8 +106,8 @@ class Kernel final : public ForceKernel {
   Kernel(const PairLaws<Law>& laws, bool vector_contacts)
       : laws_(laws), law_(laws.pair(0, 0)), x4_(kX4 && vector_contacts && x4_contacts_available()) {}
 
-  /// The contacts entries[contacts[k]], k < count, of a chunk (friction): springs, pair results and the entries'
-  /// energies and overlaps. Four at a time (hertz_mindlin_x4) or one at a time, the same bits.
+  /// The contacts entries[contacts[k]], k < count, of a chunk (friction; `contacts` null: the
+  /// entries 0 to count - 1): springs, pair results and the entries' energies and overlaps. Four at a time (hertz_mindlin_x4) or one at a time, the same bits.
   /// With AVX and the energies untracked, the law also adds the upper contacts to s.f, s.t,
   /// counts them and offers them as the deepest (`sums`, OwnSums), so the booking has nothing
   /// left to do; returns whether it did. With the energies tracked the booking still walks the
@@ -122,7 +122,7 @@ class Kernel final : public ForceKernel {
       }
     }
     for (std::size_t c = 0; c < count; ++c) {
-      PairEntry& entry = entries[contacts[c]];
+      PairEntry& entry = entries[contacts != nullptr ? contacts[c] : c];
       const std::size_t i = entry.i;
       const std::uint32_t j = entry.j;
       PairKinematics p = pair_kinematics(s, i, j, s.x[i] - s.x[j]);
@@ -408,7 +408,7 @@ class Kernel final : public ForceKernel {
               contact.j = j;
               contact.code = code;
               contact.kind = upper ? PairEntry::kContactUpper : PairEntry::kContact;
-              contacts[contact_count] = count;
+              if constexpr (kEnergy) contacts[contact_count] = count;  // else every entry is a contact
               count += touching;
               contact_count += touching;
             };
@@ -428,7 +428,10 @@ class Kernel final : public ForceKernel {
             s.t[i] = Vec3::Zero();
           }
           OwnSums sums{&out.deepest};
-          const bool summed = evaluate_contacts(s, entries, contacts, contact_count, dt, sums);
+          // Untracked, no entry is an ended contact: the law reads the entries in order, without
+          // the index (0.979-0.980 of the kernel, docs/performance.md "Branch vectors only where
+          // they are read").
+          const bool summed = evaluate_contacts(s, entries, kEnergy ? contacts : nullptr, contact_count, dt, sums);
           pairs += sums.pairs;
           if (summed) {  // nothing left to book; the boundaries' forces are added in the sum pass
             for (std::size_t i = chunk; i < chunk_end; ++i) {

@@ -105,7 +105,7 @@ template <bool kEnergy>
     PairResult* result[4];
     for (std::size_t l = 0; l < 4; ++l) {
       const std::size_t k = first + l < count ? first + l : count - 1;
-      entry[l] = &entries[contacts[k]];
+      entry[l] = &entries[contacts != nullptr ? contacts[k] : k];
       i[l] = entry[l]->i;
       j[l] = entry[l]->j;
       spring[l] = &s.spring_at(entry[l]->code);

@@ -29,14 +29,14 @@ struct OwnSums {
   std::size_t pairs = 0;                             ///< contacts added
 };
 
-/// Evaluates the contacts entries[contacts[k]], k < count, of one Hertz-Mindlin law (one
-/// material), four at a time: the relative kinematics from the particles' state in `s`, the
-/// normal force, the tangential spring update (each contact's spring in s.spring_at(code):
-/// displacement and stiffness), the pair result (s.result_at(code): force on i and both
-/// torques); with kEnergy also the spring's branch vectors and the entry's elastic and
-/// dissipated energy (contact_force.hpp). `dt` is the history increment interval [s]. With
-/// `sums`, also what OwnSums says; without, the entry's overlap (for the booking). Requires
-/// x4_contacts_available().
+/// Evaluates the contacts entries[contacts[k]], k < count (`contacts` null: entries[k]), of one
+/// Hertz-Mindlin law (one material), four at a time: the relative kinematics from the
+/// particles' state in `s`, the normal force, the tangential spring update (each contact's
+/// spring in s.spring_at(code): displacement and stiffness), the pair result
+/// (s.result_at(code): force on i and both torques); with kEnergy also the spring's branch
+/// vectors and the entry's elastic and dissipated energy (contact_force.hpp). `dt` is the
+/// history increment interval [s]. With `sums`, also what OwnSums says; without, the entry's
+/// overlap (for the booking). Requires x4_contacts_available().
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
                       std::size_t count, double dt, OwnSums* sums = nullptr);
