@@ -1182,7 +1182,7 @@ EngineState FastEngine::save_state() const {
     for (std::size_t k = 0; k < s.owned; ++k) {
       for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
-        if (s.spring_of[slot] == kNoSpring) continue;
+        if (s.spring_of[slot] == kNoSpring || s.id[k] > s.id[j]) continue;
         // A slot keeps a spring only while its pair touched at the last evaluation, whose
         // positions these still are; the branch vectors are the ones it computed (the same
         // expressions, pair_geometry), which the kernel stores only when the energies are
@@ -1191,7 +1191,7 @@ EngineState FastEngine::save_state() const {
         const PairGeometry g = pair_geometry(s, k, j, s.x[k] - s.x[j]);
         sp.branch_i = g.r_i;
         sp.branch_j = g.r_j;
-        if (s.id[k] < s.id[j] && (sp.stiffness != 0.0 || sp.branch_i != Vec3::Zero())) {
+        if (sp.stiffness != 0.0 || sp.branch_i != Vec3::Zero()) {
           put(ContactHistoryRecord::Kind::kParticlePair, s.id[k], s.id[j], sp);
         }
       }

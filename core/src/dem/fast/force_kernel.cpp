@@ -107,7 +107,8 @@ class Kernel final : public ForceKernel {
       : laws_(laws), law_(laws.pair(0, 0)), x4_(kX4 && vector_contacts && x4_contacts_available()) {}
 
   /// The contacts entries[contacts[k]], k < count, of a chunk (friction; `contacts` null: the
-  /// entries 0 to count - 1): springs, pair results and the entries' energies and overlaps. Four at a time (hertz_mindlin_x4) or one at a time, the same bits.
+  /// entries 0 to count - 1): springs, pair results and the entries' energies and overlaps.
+  /// Four at a time (hertz_mindlin_x4) or one at a time, the same bits.
   /// With AVX and the energies untracked, the law also adds the upper contacts to s.f, s.t,
   /// counts them and offers them as the deepest (`sums`, OwnSums), so the booking has nothing
   /// left to do; returns whether it did. With the energies tracked the booking still walks the
@@ -429,15 +430,16 @@ class Kernel final : public ForceKernel {
           }
           OwnSums sums{&out.deepest};
           // Untracked, no entry is an ended contact: the law reads the entries in order, without
-          // the index (0.979-0.980 of the kernel, docs/performance.md "Branch vectors only where
-          // they are read").
+          // the index (0.979-0.980 of the kernel, docs/performance.md "Fewer loads and stores
+          // per contact and per particle").
           const bool summed = evaluate_contacts(s, entries, kEnergy ? contacts : nullptr, contact_count, dt, sums);
           pairs += sums.pairs;
           if (summed) {  // nothing left to book; the boundaries' forces are added in the sum pass
             for (std::size_t i = chunk; i < chunk_end; ++i) {
               // Near no boundary (most of a bed): nothing to visit, only its empty block of
-              // records to close (0.985 of the kernel, docs/performance.md "Branch vectors only
-              // where they are read"). Without energies an old record needs no visit.
+              // records to close (0.985 of the kernel, docs/performance.md "Fewer loads and
+              // stores per contact and per particle"). Without energies an old record needs no
+              // visit.
               if (nb <= 32 && (s.near_boundaries[i] & near_mask) == 0) {
                 if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
                 continue;
