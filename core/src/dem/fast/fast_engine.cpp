@@ -12,6 +12,8 @@
 
 #include "decomposition.hpp"
 #include "fast_state.hpp"
+#include "hertz_mindlin_x4.hpp"
+#include "near_members.hpp"
 #include "pack.hpp"
 #include "ppohdem/dem/cell_grid.hpp"
 #include "ppohdem/dem/ordered_sum.hpp"
@@ -195,10 +197,7 @@ struct FastEngine::Impl {
   std::vector<std::array<double, 7>> block_sums;  ///< reduce_one_rank's per-block partial sums
   mutable std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
-  struct Probe {  ///< a centre and radius in search_neighbours' member order [m]
-    double x, y, z, r;
-  };
-  std::vector<Probe> search_probes;  ///< search_neighbours' member-order records (reused)
+  ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
   std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
 
   /// Keeps the particles this rank owns (all of them on one rank).
@@ -471,6 +470,7 @@ struct FastEngine::Impl {
       s.upper_first.clear();
       return;
     }
+    std::vector<std::uint32_t> upper_first(n);
     const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
     // Members of each cell (counting sort of owned then ghosts; on one rank the owned
     // particles are already in cell order, so members[k] = k).
@@ -482,32 +482,37 @@ struct FastEngine::Impl {
     }
     for (std::size_t c = 0; c < grid.size(); ++c) start[c + 1] += start[c];
     std::vector<std::uint32_t> members(all);
+    std::vector<std::uint32_t> member_of(n);  // owned particle -> its member index
     {
       std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-      for (std::size_t i = 0; i < all; ++i) members[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
+      for (std::size_t i = 0; i < all; ++i) {
+        const std::uint32_t m = fill[cell[i]]++;
+        members[m] = static_cast<std::uint32_t>(i);
+        if (i < n) member_of[i] = m;
+      }
     }
-    // The centres and radii in member order (one 32-byte record per member): a row of three
-    // cells along x is one contiguous run of members, read in one sweep.
+    // The centres and radii in member order (one column each): a row of three cells along x is
+    // one contiguous run of members, read in one sweep.
     search_probes.resize(all);
     for (std::size_t m = 0; m < all; ++m) {
       const std::uint32_t j = members[m];
-      search_probes[m] = {s.x[j].x(), s.x[j].y(), s.x[j].z(), s.radius[j]};
+      search_probes.x[m] = s.x[j].x();
+      search_probes.y[m] = s.x[j].y();
+      search_probes.z[m] = s.x[j].z();
+      search_probes.r[m] = s.radius[j];
     }
-    const Probe* const probes = search_probes.data();
-    const double skin_ = skin;
+    const bool x4 = x4_contacts_available();
     // The partners j != i with |x_i - x_j| < R_i + R_j + skin, as (id, storage index) into
-    // `near` (unsorted): the 3 x 3 rows of three cells around i's cell. Each candidate's member
-    // index is written to `candidates` and kept by advancing the count by the test's outcome
-    // (no branch: about a quarter of the candidates pass, a coin toss for the branch
-    // predictor); `candidates` has one entry per member, the most there can be.
+    // `near` (unsorted): the 3 x 3 rows of three cells around i's cell, tested by near_members
+    // (four at a time with AVX); `candidates` has room for every member and the 3 more that
+    // near_members may write.
     auto visit = [&](std::size_t i, std::vector<std::uint32_t>& candidates, std::vector<std::pair<std::int64_t, std::uint32_t>>& near) {
-      std::uint32_t* const kept = candidates.data();
-      std::size_t count = 0;
       const Vec3 xi = s.x[i];
-      const double ri = s.radius[i];
       const Index3 c = grid.index(xi);
       const int x_lo = std::max(c[0] - 1, 0);
       const int x_hi = std::min(c[0] + 1, grid.dims[0] - 1);
+      MemberRun rows[9];
+      std::size_t row_count = 0;
       for (int dz = -1; dz <= 1; ++dz) {
         const int z = c[2] + dz;
         if (z < 0 || z >= grid.dims[2]) continue;
@@ -515,17 +520,13 @@ struct FastEngine::Impl {
           const int y = c[1] + dy;
           if (y < 0 || y >= grid.dims[1]) continue;
           const std::size_t row = grid.linear({x_lo, y, z});
-          const std::uint32_t end = start[row + static_cast<std::size_t>(x_hi - x_lo) + 1];
-          for (std::uint32_t m = start[row]; m < end; ++m) {
-            const Probe& p = probes[m];
-            const double reach = ri + p.r + skin_;
-            const Vec3 d(xi.x() - p.x, xi.y() - p.y, xi.z() - p.z);
-            kept[count] = m;
-            count += static_cast<std::size_t>((d.squaredNorm() < reach * reach) & (members[m] != i));
-          }
+          rows[row_count++] = {start[row], start[row + static_cast<std::size_t>(x_hi - x_lo) + 1]};
         }
       }
-      for (std::size_t k = 0; k < count; ++k) near.emplace_back(s.id[members[kept[k]]], members[kept[k]]);
+      const NearQuery q{xi.x(), xi.y(), xi.z(), s.radius[i], skin, member_of[i]};
+      const std::size_t count = x4 ? near_members_x4(search_probes, rows, row_count, q, candidates.data())
+                                   : near_members(search_probes, rows, row_count, q, candidates.data());
+      for (std::size_t k = 0; k < count; ++k) near.emplace_back(s.id[members[candidates[k]]], members[candidates[k]]);
     };
     // One pass: each of `blocks` contiguous blocks of particles lists its partners (each
     // particle's sorted by id) into its own buffer, and the buffers are joined in block order
@@ -540,16 +541,25 @@ struct FastEngine::Impl {
       std::vector<std::uint32_t>& found = search_buffers[static_cast<std::size_t>(b)];
       found.clear();
       std::vector<std::pair<std::int64_t, std::uint32_t>> near;
-      std::vector<std::uint32_t> candidates(all);
+      std::vector<std::uint32_t> candidates(all + ProbeColumns::kPadding);
       for (std::size_t i = lo; i < hi; ++i) {
         near.clear();
         visit(i, candidates, near);
         std::sort(near.begin(), near.end());  // by id (ids are unique)
-        for (const auto& [id, j] : near) found.push_back(j);
+        const std::int64_t id_i = s.id[i];
+        std::uint32_t lower = 0;  // partners with a lower id: they come first
+        for (const auto& [id, j] : near) {
+          found.push_back(j);
+          lower += static_cast<std::uint32_t>(id < id_i);
+        }
         first[i + 1] = static_cast<std::uint32_t>(near.size());
+        upper_first[i] = lower;  // made a slot index below
       }
     }
-    for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+    for (std::size_t i = 0; i < n; ++i) {
+      first[i + 1] += first[i];
+      upper_first[i] += first[i];
+    }
     std::vector<std::uint32_t> partner(first[n]);
     for (int b = 0; b < blocks; ++b) {
       const std::size_t lo = n * static_cast<std::size_t>(b) / static_cast<std::size_t>(blocks);
@@ -558,43 +568,48 @@ struct FastEngine::Impl {
     }
     s.first.swap(first);
     s.partner.swap(partner);
+    s.upper_first.swap(upper_first);
     link_mirrors();
   }
 
-  /// FastState::upper_first (every scene), and FastState::mirror: for each slot of an owned
-  /// partner j, the slot of this particle in j's list (the lists are symmetric between owned
-  /// particles: the same reach and distance decide both; each list is sorted by id, so a
-  /// binary search finds it). Mirrors for frictional scenes only: without history every
-  /// contact is evaluated from both sides.
+  /// FastState::mirror (frictional scenes; without history every contact is evaluated from
+  /// both sides): for each slot of an owned partner j, the slot of this particle in j's list.
+  /// The lists are symmetric between owned particles (the same reach and distance decide
+  /// both), and each is sorted by id, so one binary search per pair, from its lower-id side i
+  /// in the lower-id part of j's list, links both slots (half the searches of one per slot:
+  /// docs/performance.md "Cheaper list builds"). Symmetry check: every upper slot finds its
+  /// pair, and as many lower slots are linked as there are lower slots of owned partners
+  /// (distinct pairs link distinct slots, so all of them).
   void link_mirrors() {
     const std::size_t n = s.owned;
-    s.upper_first.assign(n, 0);
-    auto find_upper_first = [&](std::size_t i) {
-      const auto upper = std::partition_point(s.partner.begin() + s.first[i], s.partner.begin() + s.first[i + 1],
-                                              [&](std::uint32_t k) { return s.id[k] < s.id[i]; });
-      s.upper_first[i] = static_cast<std::uint32_t>(upper - s.partner.begin());
-    };
     if (!s.friction) {
       s.mirror.clear();
-      PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
-      for (std::size_t i = 0; i < n; ++i) find_upper_first(i);
       return;
     }
     s.mirror.assign(s.partner.size(), kNoMirror);
     s.lower_codes_valid = false;
-    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    std::size_t lower_slots = 0, linked = 0, unmatched = 0;
+    PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : lower_slots, linked, unmatched) if (n >= kParallelMin))
     for (std::size_t i = 0; i < n; ++i) {
-      find_upper_first(i);
-      for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) {
+      for (std::uint32_t slot = s.first[i]; slot < s.upper_first[i]; ++slot) lower_slots += s.partner[slot] < n;
+      for (std::uint32_t slot = s.upper_first[i]; slot < s.first[i + 1]; ++slot) {
         const std::uint32_t j = s.partner[slot];
         if (j >= n) continue;
+        // i's slot among j's lower-id partners (each slot is written by one pair only).
         const auto begin = s.partner.begin() + s.first[j];
-        const auto end = s.partner.begin() + s.first[j + 1];
+        const auto end = s.partner.begin() + s.upper_first[j];
         const auto it = std::lower_bound(begin, end, s.id[i], [&](std::uint32_t k, std::int64_t id) { return s.id[k] < id; });
-        if (it == end || *it != i) throw std::logic_error("fast engine: neighbour lists are not symmetric");
-        s.mirror[slot] = static_cast<std::uint32_t>(it - s.partner.begin());
+        if (it == end || *it != i) {
+          ++unmatched;
+          continue;
+        }
+        const auto other = static_cast<std::uint32_t>(it - s.partner.begin());
+        s.mirror[slot] = other;
+        s.mirror[other] = slot;
+        ++linked;
       }
     }
+    if (unmatched != 0 || linked != lower_slots) throw std::logic_error("fast engine: neighbour lists are not symmetric");
   }
 
   /// Pair histories by partner id (both ranges ascending in id: a merge); boundary records
@@ -1152,7 +1167,8 @@ std::size_t FastEngine::memory_bytes() const {
   std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror) + bytes(s.upper_first);
   for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
   for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
-  pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes) + bytes(impl_->all_terms);  // the engine's reused work buffers
+  pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes.x) + bytes(impl_->search_probes.y) + bytes(impl_->search_probes.z) +
+                bytes(impl_->search_probes.r) + bytes(impl_->all_terms);  // the engine's reused work buffers
   for (const auto& buffer : impl_->search_buffers) pool_bytes += bytes(buffer);
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
