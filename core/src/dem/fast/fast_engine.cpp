@@ -399,9 +399,11 @@ struct FastEngine::Impl {
     History h = take_history();
     for_each_particle_array(s, [&](auto& a) { a.resize(s.owned); });  // drop the ghosts
     if (distributed()) migrate(h);
-    sort_owned_by_cell(h);
+    const Grid owned_grid = sort_owned_by_cell(h);
     make_ghosts();
-    search_neighbours();
+    // With one rank there are no ghosts: the search's grid is the sort's (made from the same
+    // positions, in another order; the grid depends only on their values).
+    search_neighbours(distributed() ? nullptr : &owned_grid);
     install_history(h);
     mark_near_boundaries();
     s.split_stale = true;  // the kernel's ranges are cut afresh for the new order
@@ -433,10 +435,11 @@ struct FastEngine::Impl {
     }
   }
 
-  void sort_owned_by_cell(History& h) {
+  /// Returns the cell grid of the owned particles (empty if there are none).
+  Grid sort_owned_by_cell(History& h) {
     const std::size_t n = s.owned;
     s.where.assign(total, kNotHere);
-    if (n == 0) return;
+    if (n == 0) return {};
     const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
     // Counting sort by cell (stable): order[new] = old.
     std::vector<std::uint32_t> cell(n);
@@ -455,11 +458,12 @@ struct FastEngine::Impl {
     h = History::gathered(h, order);
     s.x_build = s.x;
     for (std::size_t k = 0; k < n; ++k) s.where[s.original[k]] = static_cast<std::uint32_t>(k);
+    return grid;
   }
 
-  /// Neighbour search over owned + ghost particles for the owned ones: two passes (count,
-  /// fill), each particle independently.
-  void search_neighbours() {
+  /// Neighbour search over owned + ghost particles for the owned ones, each particle
+  /// independently. `grid_made`: the cell grid of all of them if already made (else made here).
+  void search_neighbours(const Grid* grid_made) {
     const std::size_t n = s.owned;
     const std::size_t all = s.size();
     std::vector<std::uint32_t> first(n + 1, 0);
@@ -471,7 +475,7 @@ struct FastEngine::Impl {
       return;
     }
     std::vector<std::uint32_t> upper_first(n);
-    const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
+    const Grid grid = grid_made != nullptr ? *grid_made : grid_for(s.x, 2.0 * r_max + skin);
     // Members of each cell (counting sort of owned then ghosts; on one rank the owned
     // particles are already in cell order, so members[k] = k).
     std::vector<std::uint32_t> cell(all);
