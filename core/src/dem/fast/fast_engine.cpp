@@ -68,10 +68,10 @@ struct History {
   std::vector<std::uint32_t> record_first{0};
   std::vector<BoundaryRecord> records;  ///< .particle is not used here
 
-  /// The histories of h's particles order[0], order[1], ... (a copy in that order; each
-  /// particle's block is copied on the OpenMP threads, after the offsets are summed).
-  static History gathered(const History& h, const std::vector<std::uint32_t>& order) {
-    History g;
+  /// g := the histories of h's particles order[0], order[1], ... (a copy in that order; each
+  /// particle's block is copied on the OpenMP threads, after the offsets are summed). g's
+  /// storage is reused (see FastEngine::Impl::history).
+  static void gather(const History& h, const std::vector<std::uint32_t>& order, History& g) {
     const std::size_t n = order.size();
     g.first.assign(n + 1, 0);
     g.record_first.assign(n + 1, 0);
@@ -91,7 +91,6 @@ struct History {
       std::copy_n(h.records.begin() + record_from, h.record_first[order[k] + 1] - record_from,
                   g.records.begin() + g.record_first[k]);
     }
-    return g;
   }
   void append_from(const History& h, std::size_t k) {
     for (std::uint32_t a = h.first[k]; a < h.first[k + 1]; ++a) {
@@ -198,6 +197,10 @@ struct FastEngine::Impl {
   mutable std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
+  /// A list build's histories (build_lists) and the cell sort's copy of them: kept between
+  /// builds so that their storage is reused, not allocated and zeroed afresh (about 0.5M cycles
+  /// of a 10,000-particle build: docs/performance.md "Cheaper list builds, second pass").
+  History history, history_sorted;
   std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
 
   /// Keeps the particles this rank owns (all of them on one rank).
@@ -249,9 +252,8 @@ struct FastEngine::Impl {
     out_valid = false;
   }
 
-  /// What the owned particles carry across the build (History).
-  History take_history() const {
-    History h;
+  /// h := what the owned particles carry across the build (History); h's storage is reused.
+  void take_history(History& h) const {
     const std::size_t n = s.owned;
     const bool pairs = s.friction && s.first.size() == n + 1;
     const bool boundaries = s.record_first.size() == n + 1;
@@ -306,7 +308,6 @@ struct FastEngine::Impl {
                   h.records.begin() + h.record_first[k]);
       }
     }
-    return h;
   }
 
   /// Migration (the migrate plan: each owned particle's new owner from its centre) with its
@@ -396,7 +397,8 @@ struct FastEngine::Impl {
   void build_lists() {
     ++builds;
     out_valid = false;
-    History h = take_history();
+    History& h = history;
+    take_history(h);
     for_each_particle_array(s, [&](auto& a) { a.resize(s.owned); });  // drop the ghosts
     if (distributed()) migrate(h);
     const Grid owned_grid = sort_owned_by_cell(h);
@@ -455,7 +457,8 @@ struct FastEngine::Impl {
       for (std::size_t i = 0; i < n; ++i) order[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
     }
     for_each_particle_array(s, [&](auto& a) { permute(a, order); });
-    h = History::gathered(h, order);
+    History::gather(h, order, history_sorted);
+    std::swap(h, history_sorted);
     s.x_build = s.x;
     for (std::size_t k = 0; k < n; ++k) s.where[s.original[k]] = static_cast<std::uint32_t>(k);
     return grid;
@@ -652,9 +655,15 @@ struct FastEngine::Impl {
       for (std::size_t b = 0; b < source.size(); ++b) {
         if (source[b] != kNone) s.spring_of[b] = next++;
       }
-      s.spring_pools.assign(1, std::vector<TangentialSpring>(next));
+      // Pool 0 reuses the last layout's storage (the ranges' pools go: lay_out_springs adds them
+      // empty): entries 1 to next - 1 are all written below, entry 0 is kNoSpring's empty one.
+      // A fresh zeroed pool, copied in, cost about as much as the rest of this function
+      // (docs/performance.md "Cheaper list builds, second pass").
+      s.spring_pools.resize(1);
       s.pool_shift = 31;
       std::vector<TangentialSpring>& pool = s.spring_pools[0];
+      pool.resize(next);
+      pool[0] = TangentialSpring{};
       PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
       for (std::size_t b = 0; b < source.size(); ++b) {
         if (source[b] != kNone) pool[s.spring_of[b]] = h.spring[source[b]];
@@ -1174,6 +1183,9 @@ std::size_t FastEngine::memory_bytes() const {
   pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes.x) + bytes(impl_->search_probes.y) + bytes(impl_->search_probes.z) +
                 bytes(impl_->search_probes.r) + bytes(impl_->all_terms);  // the engine's reused work buffers
   for (const auto& buffer : impl_->search_buffers) pool_bytes += bytes(buffer);
+  for (const History* h : {&impl_->history, &impl_->history_sorted}) {  // kept between list builds
+    pool_bytes += bytes(h->first) + bytes(h->partner_id) + bytes(h->spring) + bytes(h->record_first) + bytes(h->records);
+  }
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.terms) + bytes(s.first) +
