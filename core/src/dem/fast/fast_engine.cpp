@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <tuple>
 #include <unordered_map>
 
@@ -401,11 +402,11 @@ struct FastEngine::Impl {
     take_history(h);
     for_each_particle_array(s, [&](auto& a) { a.resize(s.owned); });  // drop the ghosts
     if (distributed()) migrate(h);
-    const Grid owned_grid = sort_owned_by_cell(h);
+    const CellOrder sorted = sort_owned_by_cell(h);
     make_ghosts();
-    // With one rank there are no ghosts: the search's grid is the sort's (made from the same
-    // positions, in another order; the grid depends only on their values).
-    search_neighbours(distributed() ? nullptr : &owned_grid);
+    // With one rank there are no ghosts: the search's cells are the sort's (the same grid,
+    // which depends only on the positions' values, and the particles now in its cell order).
+    search_neighbours(distributed() ? nullptr : &sorted);
     install_history(h);
     mark_near_boundaries();
     s.split_stale = true;  // the kernel's ranges are cut afresh for the new order
@@ -437,8 +438,16 @@ struct FastEngine::Impl {
     }
   }
 
-  /// Returns the cell grid of the owned particles (empty if there are none).
-  Grid sort_owned_by_cell(History& h) {
+  /// The cells of a cell sort: its grid, and start[c] the first (sorted) index in cell c
+  /// (start[c + 1] the end).
+  struct CellOrder {
+    Grid grid;
+    std::vector<std::uint32_t> start;
+  };
+
+  /// Sorts the owned particles by cell (stable); returns the grid and the cells' starts
+  /// (empty if there are no owned particles).
+  CellOrder sort_owned_by_cell(History& h) {
     const std::size_t n = s.owned;
     s.where.assign(total, kNotHere);
     if (n == 0) return {};
@@ -461,12 +470,13 @@ struct FastEngine::Impl {
     std::swap(h, history_sorted);
     s.x_build = s.x;
     for (std::size_t k = 0; k < n; ++k) s.where[s.original[k]] = static_cast<std::uint32_t>(k);
-    return grid;
+    return {grid, std::move(start)};
   }
 
   /// Neighbour search over owned + ghost particles for the owned ones, each particle
-  /// independently. `grid_made`: the cell grid of all of them if already made (else made here).
-  void search_neighbours(const Grid* grid_made) {
+  /// independently. `sorted`: the cell order all of them are in already, if they are (one
+  /// rank, after the cell sort), else made here.
+  void search_neighbours(const CellOrder* sorted) {
     const std::size_t n = s.owned;
     const std::size_t all = s.size();
     std::vector<std::uint32_t> first(n + 1, 0);
@@ -478,29 +488,37 @@ struct FastEngine::Impl {
       return;
     }
     std::vector<std::uint32_t> upper_first(n);
-    const Grid grid = grid_made != nullptr ? *grid_made : grid_for(s.x, 2.0 * r_max + skin);
-    // Members of each cell (counting sort of owned then ghosts; on one rank the owned
-    // particles are already in cell order, so members[k] = k).
-    std::vector<std::uint32_t> cell(all);
-    std::vector<std::uint32_t> start(grid.size() + 1, 0);
-    for (std::size_t i = 0; i < all; ++i) {
-      cell[i] = static_cast<std::uint32_t>(grid.linear(grid.index(s.x[i])));
-      ++start[cell[i] + 1];
-    }
-    for (std::size_t c = 0; c < grid.size(); ++c) start[c + 1] += start[c];
+    // Members of each cell: members[start[c]] .. members[start[c + 1] - 1] are the particles in
+    // cell c, and member_of[i] is owned particle i's index in members. Already in cell order
+    // (`sorted`): members[k] = k. Else a counting sort of owned then ghosts.
+    CellOrder made;
     std::vector<std::uint32_t> members(all);
-    std::vector<std::uint32_t> member_of(n);  // owned particle -> its member index
-    {
-      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    std::vector<std::uint32_t> member_of(n);
+    if (sorted != nullptr) {
+      std::iota(members.begin(), members.end(), 0u);
+      std::iota(member_of.begin(), member_of.end(), 0u);
+    } else {
+      made.grid = grid_for(s.x, 2.0 * r_max + skin);
+      std::vector<std::uint32_t> cell(all);
+      made.start.assign(made.grid.size() + 1, 0);
+      for (std::size_t i = 0; i < all; ++i) {
+        cell[i] = static_cast<std::uint32_t>(made.grid.linear(made.grid.index(s.x[i])));
+        ++made.start[cell[i] + 1];
+      }
+      for (std::size_t c = 0; c < made.grid.size(); ++c) made.start[c + 1] += made.start[c];
+      std::vector<std::uint32_t> fill(made.start.begin(), made.start.end() - 1);
       for (std::size_t i = 0; i < all; ++i) {
         const std::uint32_t m = fill[cell[i]]++;
         members[m] = static_cast<std::uint32_t>(i);
         if (i < n) member_of[i] = m;
       }
     }
+    const Grid& grid = sorted != nullptr ? sorted->grid : made.grid;
+    const std::vector<std::uint32_t>& start = sorted != nullptr ? sorted->start : made.start;
     // The centres and radii in member order (one column each): a row of three cells along x is
     // one contiguous run of members, read in one sweep.
     search_probes.resize(all);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (all >= kParallelMin))
     for (std::size_t m = 0; m < all; ++m) {
       const std::uint32_t j = members[m];
       search_probes.x[m] = s.x[j].x();
@@ -545,7 +563,13 @@ struct FastEngine::Impl {
     for (int b = 0; b < blocks; ++b) {
       const std::size_t lo = n * static_cast<std::size_t>(b) / static_cast<std::size_t>(blocks);
       const std::size_t hi = n * static_cast<std::size_t>(b + 1) / static_cast<std::size_t>(blocks);
-      std::vector<std::uint32_t>& found = search_buffers[static_cast<std::size_t>(b)];
+      // The block's list in a vector object of this thread's own (its storage the reused
+      // buffer's): the vector objects of search_buffers share a cache line, and every push_back
+      // writes the vector's end, so appending through them bounced that line between the
+      // threads (the search's parallel part took 0.92 of its 1-thread time on 2 threads:
+      // docs/performance.md "Cheaper list builds, second pass").
+      std::vector<std::uint32_t> found;
+      found.swap(search_buffers[static_cast<std::size_t>(b)]);
       found.clear();
       std::vector<std::pair<std::int64_t, std::uint32_t>> near;
       std::vector<std::uint32_t> candidates(all + ProbeColumns::kPadding);
@@ -562,6 +586,7 @@ struct FastEngine::Impl {
         first[i + 1] = static_cast<std::uint32_t>(near.size());
         upper_first[i] = lower;  // made a slot index below
       }
+      found.swap(search_buffers[static_cast<std::size_t>(b)]);
     }
     for (std::size_t i = 0; i < n; ++i) {
       first[i + 1] += first[i];
@@ -584,9 +609,9 @@ struct FastEngine::Impl {
   /// The lists are symmetric between owned particles (the same reach and distance decide
   /// both), and each is sorted by id, so one binary search per pair, from its lower-id side i
   /// in the lower-id part of j's list, links both slots (half the searches of one per slot:
-  /// docs/performance.md "Cheaper list builds"). Symmetry check: every upper slot finds its
-  /// pair, and as many lower slots are linked as there are lower slots of owned partners
-  /// (distinct pairs link distinct slots, so all of them).
+  /// docs/performance.md "Cheaper list builds, second pass"). Symmetry check: every upper slot
+  /// finds its pair, and as many lower slots are linked as there are lower slots of owned
+  /// partners (distinct pairs link distinct slots, so all of them).
   void link_mirrors() {
     const std::size_t n = s.owned;
     if (!s.friction) {
