@@ -10,7 +10,10 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <string>
+#include <vector>
 
+#include "ppohdem/dem/cell_grid.hpp"
 #include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/ordered_sum.hpp"
@@ -50,8 +53,9 @@ enum class SceneKind {
 /// About 1,400 spheres on a jittered lattice (so the loops run on every thread: the kernels
 /// go parallel from 1,024 particles) with random velocities of up to 0.3 m/s per component and
 /// random spins, so that contacts form and break from the first steps and the neighbour list
-/// is rebuilt every ~10-20 steps.
-SimulationSetup scene(SceneKind kind) {
+/// is rebuilt every ~10-20 steps. The box is `shape` times the width (14 diameters) per axis:
+/// twice as tall as wide unless said.
+SimulationSetup scene(SceneKind kind, const Vec3& shape = Vec3(1.0, 1.0, 2.0)) {
   const double width = 14.0 * 2.0 * kR;  // [m]
   SimulationSetup s;
   s.material = glass_like(kind == SceneKind::kHertzFrictionlessFree ? 0.0 : (kind == SceneKind::kHertzFrictionWalls ? 0.5 : 0.3));
@@ -65,7 +69,7 @@ SimulationSetup scene(SceneKind kind) {
   GeneratorSpec g;
   g.kind = GeneratorKind::kLattice;
   g.box_min = Vec3::Zero();
-  g.box_max = Vec3(width, width, 2.0 * width);
+  g.box_max = width * shape;
   g.count = 1500;
   g.radius = kR;
   g.jitter = 0.05;
@@ -80,9 +84,9 @@ SimulationSetup scene(SceneKind kind) {
   if (kind != SceneKind::kHertzFrictionlessFree) {
     s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3::Zero(), Vec3(0, 0, 1)));
     s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3::Zero(), Vec3(1, 0, 0)));
-    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3(width, 0, 0), Vec3(-1, 0, 0)));
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3(width * shape.x(), 0, 0), Vec3(-1, 0, 0)));
     s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3::Zero(), Vec3(0, 1, 0)));
-    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3(0, width, 0), Vec3(0, -1, 0)));
+    s.boundaries.push_back(std::make_shared<PlaneWall>(Vec3(0, width * shape.y(), 0), Vec3(0, -1, 0)));
   }
   if (kind == SceneKind::kLinearFrictionWallsObject) {
     // A lid coming down at 0.5 m/s from just above the top layer, and a sphere of radius
@@ -358,6 +362,45 @@ TEST(FastEngine, FinalStateIsBitwiseTheSameForOneAndTwoThreads) {
   EXPECT_EQ(one.second.dissipated, two.second.dissipated);
   EXPECT_EQ(one.second.boundary_work, two.second.boundary_work);
 #endif
+}
+
+// The fast engine sorts its cells with the longest axis varying slowest (cell_grid.hpp,
+// with_longest_axis_slowest), so in a box longer in x or in y than in z the cell order and the
+// neighbour search's rows (along the fastest axis) differ from the reference's x, y, z order.
+// Boxes long in x (order y, z, x) and long in y (x, z, y): the reference's bits, on 1 and on 2
+// threads.
+TEST(FastEngine, CellsOrderedAcrossTheLongestAxisKeepTheReferencesBits) {
+  for (const Vec3& shape : {Vec3(4.0, 1.0, 0.5), Vec3(1.0, 4.0, 0.5)}) {
+    const SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls, shape);
+    // Not vacuous: these centres' grid has a slowest axis other than z.
+    std::vector<Vec3> centres;
+    for (const Particle& p : setup.particles) centres.push_back(p.position);
+    const CellGrid grid = with_longest_axis_slowest(cell_grid_for(centres, 2.0 * kR));
+    const std::size_t longest = shape.x() > shape.y() ? 0 : 1;
+    ASSERT_EQ(grid.order[2], longest);
+    ASSERT_EQ(grid.order[0], longest == 0 ? 1u : 0u);
+    ReferenceEngine reference(setup);
+    reference.advance(300);
+    std::vector<int> thread_counts = {1};
+#ifdef PPOHDEM_WITH_OPENMP
+    thread_counts.push_back(2);
+    const int before = omp_get_max_threads();
+#endif
+    for (int threads : thread_counts) {
+#ifdef PPOHDEM_WITH_OPENMP
+      omp_set_num_threads(threads);
+#endif
+      FastEngine fast(setup);
+      fast.advance(300);
+      const std::string what = "box " + std::to_string(shape.x()) + " x " + std::to_string(shape.y()) + ", " + std::to_string(threads) + " thread(s)";
+      expect_same_bits(reference.particles(), fast.particles(), what);
+      EXPECT_GT(fast.contact_counts().particle_pairs, 50u) << what;
+      EXPECT_GT(fast.neighbour_list_builds(), 10) << what;
+    }
+#ifdef PPOHDEM_WITH_OPENMP
+    omp_set_num_threads(before);
+#endif
+  }
 }
 
 TEST(FastEngine, ThreadCountChangedMidRunContinuesBitwise) {

@@ -10,6 +10,7 @@
 /// and the clamp (monotone, never increasing distances) keeps that true; outliers only crowd
 /// the border cells. The layout decides which pairs are examined, never a force value.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -22,6 +23,9 @@ struct CellGrid {
   Vec3 origin = Vec3::Zero();  ///< [m]
   double cell = 1.0;           ///< cell side [m]
   Index3 dims = {1, 1, 1};
+  /// The axes from the fastest to the slowest varying in `linear` (x, y, z unless set, e.g.
+  /// by with_longest_axis_slowest). Cells adjacent along order[0] are adjacent in `linear`.
+  std::array<std::size_t, 3> order = {0, 1, 2};
 
   int axis_index(double x, int axis) const {
     const double c = std::floor((x - origin[axis]) / cell);
@@ -29,9 +33,10 @@ struct CellGrid {
   }
   Index3 index(const Vec3& x) const { return {axis_index(x.x(), 0), axis_index(x.y(), 1), axis_index(x.z(), 2)}; }
   std::size_t linear(const Index3& c) const {
-    return static_cast<std::size_t>(c[0]) +
-           static_cast<std::size_t>(dims[0]) *
-               (static_cast<std::size_t>(c[1]) + static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(c[2]));
+    const auto [fast, middle, slow] = order;
+    return static_cast<std::size_t>(c[fast]) +
+           static_cast<std::size_t>(dims[fast]) *
+               (static_cast<std::size_t>(c[middle]) + static_cast<std::size_t>(dims[middle]) * static_cast<std::size_t>(c[slow]));
   }
   std::size_t size() const {
     return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(dims[2]);
@@ -62,6 +67,26 @@ inline CellGrid cell_grid_for(const std::vector<Vec3>& centres, double cell) {
   if (total > budget) cells *= std::cbrt(budget / total);
   for (int axis = 0; axis < 3; ++axis) g.dims[axis] = static_cast<int>(std::max(1.0, std::floor(cells[axis])));
   return g;
+}
+
+/// `grid` with the axis of the most cells varying slowest in `linear` (ties: z, then y, then
+/// x), the others in x, y, z order. Particles sorted by cell and cut into contiguous ranges
+/// are then cut across the longest extent of the bulk: each cut is a plane through the fewest
+/// cells, so the fewest particles have partners on the other side of it. The fast engine's
+/// threads cut its cell order so, and every particle near a cut costs transfers between the
+/// cores every step (docs/performance.md "Threads cut across the longest axis"). The order
+/// decides which particles sit next to each other in memory, never a force value.
+inline CellGrid with_longest_axis_slowest(CellGrid grid) {
+  std::size_t slowest = 2;
+  for (std::size_t axis : {1, 0}) {
+    if (grid.dims[axis] > grid.dims[slowest]) slowest = axis;
+  }
+  std::size_t k = 0;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    if (axis != slowest) grid.order[k++] = axis;
+  }
+  grid.order[2] = slowest;
+  return grid;
 }
 
 }  // namespace ppohdem::dem

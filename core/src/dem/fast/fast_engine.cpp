@@ -27,7 +27,9 @@ namespace {
 
 using Grid = CellGrid;  // ppohdem/dem/cell_grid.hpp (shared with the reference's cell list)
 
-Grid grid_for(const std::vector<Vec3>& x, double min_cell) { return cell_grid_for(x, min_cell); }
+/// The cells of the sort and the search: the longest axis varies slowest, so the threads'
+/// ranges of the cell order are cut across it (cell_grid.hpp, with_longest_axis_slowest).
+Grid grid_for(const std::vector<Vec3>& x, double min_cell) { return with_longest_axis_slowest(cell_grid_for(x, min_cell)); }
 
 /// a := (a[order[0]], a[order[1]], ...); order may be shorter than a (a selection).
 template <class T>
@@ -515,8 +517,8 @@ struct FastEngine::Impl {
     }
     const Grid& grid = sorted != nullptr ? sorted->grid : made.grid;
     const std::vector<std::uint32_t>& start = sorted != nullptr ? sorted->start : made.start;
-    // The centres and radii in member order (one column each): a row of three cells along x is
-    // one contiguous run of members, read in one sweep.
+    // The centres and radii in member order (one column each): a row of three cells along the
+    // grid's fastest axis is one contiguous run of members, read in one sweep.
     search_probes.resize(all);
     PPOHDEM_OMP(omp parallel for schedule(static) if (all >= kParallelMin))
     for (std::size_t m = 0; m < all; ++m) {
@@ -528,24 +530,27 @@ struct FastEngine::Impl {
     }
     const bool x4 = x4_contacts_available();
     // The partners j != i with |x_i - x_j| < R_i + R_j + skin, as (id, storage index) into
-    // `near` (unsorted): the 3 x 3 rows of three cells around i's cell, tested by near_members
-    // (four at a time with AVX); `candidates` has room for every member and the 3 more that
-    // near_members may write.
+    // `near` (unsorted): the 3 x 3 rows of three cells around i's cell along the grid's fastest
+    // axis (contiguous in the cell order), tested by near_members (four at a time with AVX);
+    // `candidates` has room for every member and the 3 more that near_members may write.
+    const auto [along, across1, across2] = grid.order;
     auto visit = [&](std::size_t i, std::vector<std::uint32_t>& candidates, std::vector<std::pair<std::int64_t, std::uint32_t>>& near) {
       const Vec3 xi = s.x[i];
       const Index3 c = grid.index(xi);
-      const int x_lo = std::max(c[0] - 1, 0);
-      const int x_hi = std::min(c[0] + 1, grid.dims[0] - 1);
+      Index3 corner = c;
+      corner[along] = std::max(c[along] - 1, 0);
+      const int row_end = std::min(c[along] + 1, grid.dims[along] - 1) + 1;
+      const auto row_cells = static_cast<std::size_t>(row_end - corner[along]);
       MemberRun rows[9];
       std::size_t row_count = 0;
-      for (int dz = -1; dz <= 1; ++dz) {
-        const int z = c[2] + dz;
-        if (z < 0 || z >= grid.dims[2]) continue;
-        for (int dy = -1; dy <= 1; ++dy) {
-          const int y = c[1] + dy;
-          if (y < 0 || y >= grid.dims[1]) continue;
-          const std::size_t row = grid.linear({x_lo, y, z});
-          rows[row_count++] = {start[row], start[row + static_cast<std::size_t>(x_hi - x_lo) + 1]};
+      for (int d2 = -1; d2 <= 1; ++d2) {
+        corner[across2] = c[across2] + d2;
+        if (corner[across2] < 0 || corner[across2] >= grid.dims[across2]) continue;
+        for (int d1 = -1; d1 <= 1; ++d1) {
+          corner[across1] = c[across1] + d1;
+          if (corner[across1] < 0 || corner[across1] >= grid.dims[across1]) continue;
+          const std::size_t row = grid.linear(corner);
+          rows[row_count++] = {start[row], start[row + row_cells]};
         }
       }
       const NearQuery q{xi.x(), xi.y(), xi.z(), s.radius[i], skin, member_of[i]};
