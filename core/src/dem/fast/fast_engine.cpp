@@ -170,9 +170,12 @@ struct FastEngine::Impl {
   /// computes no energy terms) and energies() reports the contact terms as NaN.
   bool energy_balance = true;
   mutable std::vector<BoundaryLoad> loads;
-  /// lazy_sums(): `loads` is not yet the last evaluation's (boundary_loads() sums them).
+  /// `loads` is not yet the last evaluation's (lazy_sums(), or several ranks with the
+  /// energies untracked): boundary_loads() sums them.
   mutable bool loads_stale = false;
   std::size_t escaped = 0;  ///< whole system (not kept up to date when lazy_sums())
+  /// Several ranks: every rank's close_kick screen was finite at the last evaluation.
+  bool screens_finite = true;
   mutable Particles out;  ///< particles() in construction order (whole system)
   mutable bool out_valid = false;
   // Halo plan (built at every list build, applied after every drift): send[r] = storage indices
@@ -793,40 +796,39 @@ struct FastEngine::Impl {
       return;
     }
     // What the sums need from every rank, in ONE allgather per evaluation (with several
-    // ranks): counts, the deepest contact, the per-particle energy terms (after a step's
-    // closing kick with the motion terms, so energies() needs no gather of its own) and the
-    // boundary records, the tables as rows of bytes. Sums in construction order: independent
-    // of the cell sort (so of restarts), of the decomposition and of the thread count.
+    // ranks): counts, the deepest contact and, with the energies tracked, the per-particle
+    // energy terms (after a step's closing kick with the motion terms, so energies() needs no
+    // gather of its own) and the boundary records, the tables as rows of bytes. Sums in
+    // construction order: independent of the cell sort (so of restarts), of the decomposition
+    // and of the thread count. Untracked, the energies and the loads are gathered and summed
+    // when asked (the same rows in the same order, so the same bits): gathering every
+    // particle's 64-byte row at every step took 0.31 of a 2-rank run of the settling bed
+    // (docs/performance.md "Threads cut across the longest axis").
     struct TermRow {  // 64 bytes: construction index and the 7 terms
       std::uint32_t original, unused;
       double values[7];  // elastic, dissipated, work, power, kinetic, rotational, gravitational
     };
-    struct Load {  // a boundary record (plain arrays: sent as bytes)
-      std::uint32_t original, boundary;
-      double force[3], point[3];
-    };
+    const bool gather_sums = energy_balance;
     std::vector<Load> all_records;
     std::vector<TermRow> term_rows;
     const std::size_t owned = s.owned;
     const std::size_t escaped_here = count_escaped();
     std::array<double, 7> sums{};  // (elastic, dissipated, work, power [J, J, J, W]; motion terms [J])
     {
-      term_rows.resize(owned);
-      for (std::size_t k = 0; k < owned; ++k) {
-        const FastState::ParticleTerms& c = s.terms[k];
-        term_rows[k] = {s.original[k], 0, {c.elastic, c.dissipated, c.work, c.power, c.kinetic, c.rotational, c.gravitational}};
+      if (gather_sums) {
+        term_rows.resize(owned);
+        for (std::size_t k = 0; k < owned; ++k) {
+          const FastState::ParticleTerms& c = s.terms[k];
+          term_rows[k] = {s.original[k], 0, {c.elastic, c.dissipated, c.work, c.power, c.kinetic, c.rotational, c.gravitational}};
+        }
       }
-      std::vector<Load> my_records(s.records.size());
-      for (std::size_t r = 0; r < s.records.size(); ++r) {
-        const BoundaryRecord& record = s.records[r];
-        my_records[r] = {s.original[record.particle], record.boundary, {record.force.x(), record.force.y(), record.force.z()},
-                         {record.point.x(), record.point.y(), record.point.z()}};
-      }
+      const std::vector<Load> my_records = gather_sums ? own_loads() : std::vector<Load>{};
       Bytes mine;
       Packer pk(mine);
       pk.put(static_cast<std::uint64_t>(s.pair_contacts));
       pk.put(static_cast<std::uint64_t>(s.boundary_contacts));
       pk.put(static_cast<std::uint64_t>(escaped_here));
+      pk.put(static_cast<std::uint8_t>(std::isfinite(s.screen) ? 1 : 0));
       pk.put(static_cast<std::uint8_t>(s.deepest ? 1 : 0));
       if (s.deepest) {
         pk.put(s.deepest->ratio);
@@ -835,20 +837,22 @@ struct FastEngine::Impl {
         pk.put(s.deepest->id_b);
         pk.put(s.deepest->boundary);
       }
-      pk.put(static_cast<std::uint64_t>(owned));
-      pk.put_rows(term_rows.data(), owned);
+      pk.put(static_cast<std::uint64_t>(term_rows.size()));
+      pk.put_rows(term_rows.data(), term_rows.size());
       pk.put(static_cast<std::uint64_t>(my_records.size()));
       pk.put_rows(my_records.data(), my_records.size());
       s.pair_contacts = 0;
       s.boundary_contacts = 0;
       escaped = 0;
+      screens_finite = true;
       s.deepest.reset();
-      all_terms.resize(total);  // every construction index is owned by one rank: all written
+      if (gather_sums) all_terms.resize(total);  // every construction index is owned by one rank: all written
       for (const Bytes& block : comm->allgather(mine)) {
         Unpacker u(block);
         s.pair_contacts += u.get<std::uint64_t>();
         s.boundary_contacts += u.get<std::uint64_t>();
         escaped += u.get<std::uint64_t>();
+        screens_finite = screens_finite && u.get<std::uint8_t>() != 0;
         if (u.get<std::uint8_t>() != 0) {
           // keep_deeper is a total order, so the rank order does not matter.
           LargestOverlap c;
@@ -865,16 +869,42 @@ struct FastEngine::Impl {
         u.get_rows(all_records, u.get<std::uint64_t>());
       }
     }
+    out_valid = false;
+    if (!gather_sums) {  // energies() and boundary_loads() gather and sum when asked
+      loads_stale = true;
+      return;
+    }
     sums = parallel_ordered_sum<7>(total, [&](std::size_t o) { return all_terms[o]; });
     if (closing_kick) {
       motion_sums = {sums[4], sums[5], sums[6]};
       motion_valid = true;
     }
     add_contact_sums({sums[0], sums[1], sums[2], sums[3]}, history_dt);
-    // Boundary loads: minus the records' forces, in (construction index, boundary) order grouped
-    // in the blocks of construction indices of ordered_sum.hpp (each block from zero, then the
-    // blocks in order): the same bits for one rank (blocks on the threads) and several (the
-    // gathered records sorted).
+    add_gathered_loads(all_records);
+  }
+
+  /// A boundary record as sent between ranks (plain arrays: sent as bytes).
+  struct Load {
+    std::uint32_t original, boundary;
+    double force[3], point[3];
+  };
+
+  /// This rank's boundary records of the last evaluation, by construction index.
+  std::vector<Load> own_loads() const {
+    std::vector<Load> mine(s.records.size());
+    for (std::size_t r = 0; r < s.records.size(); ++r) {
+      const BoundaryRecord& record = s.records[r];
+      mine[r] = {s.original[record.particle], record.boundary, {record.force.x(), record.force.y(), record.force.z()},
+                 {record.point.x(), record.point.y(), record.point.z()}};
+    }
+    return mine;
+  }
+
+  /// Boundary loads from every rank's records: minus the records' forces, in (construction
+  /// index, boundary) order grouped in the blocks of construction indices of ordered_sum.hpp
+  /// (each block from zero, then the blocks in order): the same bits for one rank (blocks on
+  /// the threads, sum_loads) and several (the gathered records sorted).
+  void add_gathered_loads(std::vector<Load>& all_records) const {
     const std::size_t nb = s.boundaries.size();
     block_loads.assign(sum_blocks(total) * nb, BoundaryLoad{});
     std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
@@ -885,7 +915,7 @@ struct FastEngine::Impl {
                Vec3(r.point[0], r.point[1], r.point[2]));
     }
     add_block_loads();
-    out_valid = false;
+    loads_stale = false;
   }
 
   /// A record's load on its boundary: minus the contact force on the particle, its moment
@@ -911,6 +941,20 @@ struct FastEngine::Impl {
 
   /// lazy_sums(): the loads of the last evaluation, summed as reduce_one_rank sums them.
   void sum_loads() const {
+    if (distributed()) {  // collective: every rank's records (made on every rank, run.cpp)
+      const std::vector<Load> mine = own_loads();
+      Bytes packed;
+      Packer pk(packed);
+      pk.put(static_cast<std::uint64_t>(mine.size()));
+      pk.put_rows(mine.data(), mine.size());
+      std::vector<Load> all_records;
+      for (const Bytes& block : comm->allgather(packed)) {
+        Unpacker u(block);
+        u.get_rows(all_records, u.get<std::uint64_t>());
+      }
+      add_gathered_loads(all_records);
+      return;
+    }
     const std::size_t nb = s.boundaries.size();
     const std::size_t count = sum_blocks(total);
     block_loads.assign(count * nb, BoundaryLoad{});
@@ -1191,8 +1235,9 @@ std::vector<BoundaryLoad> FastEngine::boundary_loads() const {
 
 bool FastEngine::motion_finite() const {
   const Impl& m = *impl_;
-  // The screen of the last closing kick (after a (re)load there is none yet: the energies').
-  if (m.lazy_sums() && m.kick_cached) return std::isfinite(m.s.screen);
+  // The screen of the last closing kick (after a (re)load there is none yet: the energies'),
+  // with several ranks every rank's, gathered with the evaluation's counts.
+  if (!m.energy_balance && m.kick_cached) return m.distributed() ? m.screens_finite : std::isfinite(m.s.screen);
   return DemEngine::motion_finite();
 }
 
