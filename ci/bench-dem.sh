@@ -212,7 +212,8 @@ run_alternating() {  # engine N steps case_dir [untracked]
 }
 
 # The machine's own 2-thread ratio at the moment (validation/peers/scaling_probe.cpp: loops with
-# nothing shared between the threads), once per round, next to the engines' figures.
+# nothing shared between the threads) and what sharing costs (a cache line's round trip between
+# the threads, a barrier), once per round, next to the engines' figures.
 PROBE="$OUT/scaling_probe"
 PROBES="$OUT/probe.txt"
 : >"$PROBES"
@@ -329,7 +330,8 @@ done
   if [ -s "$PROBES" ]; then
     echo
     echo "The machine's own 2-thread ratio (time on 1 thread / on 2) at the start of each round"
-    echo "(validation/peers/scaling_probe.cpp: independent multiply chains, and a sum over 32 MB):"
+    echo "(validation/peers/scaling_probe.cpp: independent multiply chains, and a sum over 32 MB),"
+    echo "and what sharing costs between the two threads (a cache line's round trip, a barrier):"
     echo
     sed 's/^/- /' "$PROBES"
   fi
