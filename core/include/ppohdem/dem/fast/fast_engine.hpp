@@ -6,7 +6,8 @@
 /// "Optimized engine"). Divergences from the reference (STYLE habit 8), each for speed:
 ///   - structure of arrays: one array per field (x, v, omega, F, T, ...), particles stored in
 ///     the order of their cell (counting sort, the seed's cellindex/newtoorig), re-sorted
-///     whenever the neighbour list is rebuilt; particles() is assembled on demand;
+///     whenever the neighbour list is rebuilt, the cells with the longest axis varying slowest
+///     (the reference: x, y, z; cell_grid.hpp); particles() is assembled on demand;
 ///   - Verlet neighbour list with a skin (default 0.2 R_max): a FULL list (each pair appears
 ///     for both particles), no Newton-3, so OpenMP threads never write the same particle and
 ///     need no atomics; rebuilt when the largest displacement since the last build exceeds
