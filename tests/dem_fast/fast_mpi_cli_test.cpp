@@ -187,6 +187,34 @@ TEST(FastEngineMpi, PileWithObjectIsBitwiseIdenticalAcrossRanks) {
   }
 }
 
+// A motion that becomes non-finite mid-run stops every rank with the particle named, tracked
+// (the checks see it in the gathered energies) and untracked (in every rank's screen of the
+// motion, gathered with the evaluation's counts). Particle 2 starts 3 R from particle 1 (out of
+// reach, and on the other rank: the brick face is at 1.5 R) moving at -3 R / dt, all powers of
+// two, so the first drift puts it exactly on particle 1: the contact normal is 0/0 and the
+// velocities after the closing kick are NaN.
+TEST(FastEngineMpi, ANonFiniteMotionStopsEveryRankWithTheParticleNamed) {
+  for (const bool tracked : {true, false}) {
+    SCOPED_TRACE(tracked ? "energies tracked" : "energies untracked");
+    const fs::path dir = scratch(std::string("nonfinite_") + (tracked ? "tracked" : "untracked"));
+    std::ofstream(dir / "p.csv") << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius\n"
+                                 << "1,0,0,0,0,0,0,0,0,0,0.00048828125\n"        // R = 2^-11 m
+                                 << "2,0.00146484375,0,0,-1536,0,0,0,0,0,0.00048828125\n";  // 3 R, -3 R / dt
+    std::ofstream(dir / "s.toml") << "[simulation]\ndt = 9.5367431640625e-07\nsteps = 5\n"  // dt = 2^-20 s
+                                  << "gravity = [0.0, 0.0, 0.0]\nenergy_balance = " << (tracked ? "true" : "false") << "\n"
+                                  << "[material]\ndensity = 2500.0\nyoung = 1.0e7\npoisson = 0.3\nrestitution = 0.5\nfriction = 0.5\n"
+                                  << "[contact]\nmodel = \"hertz-mindlin\"\n[particles]\nfile = \"p.csv\"\n"
+                                  << "[output]\ndir = \"out\"\nevery = 0\n";
+    const CommandResult run = run_mpi(2, 1, dir / "s.toml", "--engine fast --quiet");
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_NE(run.output.find("ranks (2 x 1 x 1 bricks)"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("run stopped at step 1"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("particle id 1: the velocity is not finite"), std::string::npos) << run.output;
+    EXPECT_TRUE(fs::exists(dir / "out" / "failed_checkpoint.bin"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "final.csv"));
+  }
+}
+
 // Checkpoint at 2 ranks, restart at 1 and at 4 ranks: the same files as the uninterrupted run
 // (the checkpoint at step 200, a step with an energy row, so energy.csv gets the same rows).
 TEST(FastEngineMpi, RestartAtAnotherRankCountContinuesBitwise) {

@@ -876,7 +876,8 @@ struct FastEngine::Impl {
         s.pair_contacts += u.get<std::uint64_t>();
         s.boundary_contacts += u.get<std::uint64_t>();
         escaped += u.get<std::uint64_t>();
-        screens_finite = screens_finite && u.get<std::uint8_t>() != 0;
+        const bool screen_finite_there = u.get<std::uint8_t>() != 0;  // read whatever the flags so far
+        screens_finite = screens_finite && screen_finite_there;
         if (u.get<std::uint8_t>() != 0) {
           // keep_deeper is a total order, so the rank order does not matter.
           LargestOverlap c;
