@@ -964,7 +964,9 @@ struct FastEngine::Impl {
                                                   [](std::int32_t via) { return via != 0; }));
   }
 
-  /// lazy_sums(): the loads of the last evaluation, summed as reduce_one_rank sums them.
+  /// The loads of the last evaluation when they were not summed with it: one rank
+  /// (lazy_sums()) as reduce_one_rank sums them; several ranks with the energies untracked
+  /// gathered as evaluate_forces gathers them when tracked (collective).
   void sum_loads() const {
     if (distributed()) {  // collective: every rank's records (made on every rank, run.cpp)
       const std::vector<Load> mine = own_loads();
