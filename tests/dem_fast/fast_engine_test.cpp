@@ -548,6 +548,46 @@ TEST(FastEngine, KineticEnergySumsAreTheReferencesBitwiseOnTwoThreads) {
 #endif
 }
 
+// More ranges than two: the force kernel cuts its first pass and its sum pass differently, and
+// the sum pass reads each particle's new boundary records from the block of the first-pass
+// range it fell in (force_kernel.cpp), so with 3 and 4 threads (ranges of ~375-500 particles
+// here, more threads than this machine's cores) a sum range meets several blocks. Oracles:
+// the reference's trajectories and contact counts, and the boundary loads of one thread (the
+// loads are summed from the merged records table in storage order, the same bits on any count).
+TEST(FastEngine, ThreeAndFourThreadsKeepTheReferencesBitsAndOneThreadsLoads) {
+#ifndef PPOHDEM_WITH_OPENMP
+  GTEST_SKIP() << "built without OpenMP (PPOHDEM_ENABLE_OPENMP=OFF)";
+#else
+  const int before = omp_get_max_threads();
+  for (const SceneKind kind : {SceneKind::kHertzFrictionWalls, SceneKind::kLinearFrictionWallsObject}) {
+    const SimulationSetup setup = scene(kind);
+    ReferenceEngine reference(setup);
+    reference.advance(200);
+    omp_set_num_threads(1);
+    FastEngine one(setup);
+    one.advance(200);
+    const auto loads_one = one.boundary_loads();
+    for (const int threads : {3, 4}) {
+      omp_set_num_threads(threads);
+      FastEngine fast(setup);
+      fast.advance(200);
+      const std::string what = "scene " + std::to_string(static_cast<int>(kind)) + ", " + std::to_string(threads) + " threads";
+      expect_same_bits(reference.particles(), fast.particles(), what);
+      EXPECT_EQ(reference.contact_counts().particle_pairs, fast.contact_counts().particle_pairs) << what;
+      EXPECT_EQ(reference.contact_counts().particle_boundary, fast.contact_counts().particle_boundary) << what;
+      EXPECT_GT(fast.contact_counts().particle_boundary, 20u) << what;  // records to read
+      const auto loads = fast.boundary_loads();
+      ASSERT_EQ(loads.size(), loads_one.size()) << what;
+      for (std::size_t b = 0; b < loads.size(); ++b) {
+        EXPECT_EQ(loads[b].force, loads_one[b].force) << what << ", boundary " << b;
+        EXPECT_EQ(loads[b].moment_about_origin, loads_one[b].moment_about_origin) << what << ", boundary " << b;
+      }
+    }
+  }
+  omp_set_num_threads(before);
+#endif
+}
+
 TEST(FastEngine, RestartFromItsCheckpointIsBitwise) {
   const SimulationSetup setup = scene(SceneKind::kLinearFrictionWallsObject);
   FastEngine straight(setup);

@@ -526,16 +526,15 @@ class Kernel final : public ForceKernel {
       }
       s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     }
-    // The new boundary records: the ranges' blocks in range order are in storage order. Each
-    // range copies its block and offsets its particles' counts, in parallel. One range's block
-    // is the table itself: swapped in instead (no copy of 160 bytes per boundary contact; the
-    // buffers rotate, keeping their capacity).
+    // The new boundary records: the ranges' blocks in range order are in storage order, so the
+    // table is their concatenation. Each range's block starts at the sum of the blocks before
+    // it (`base`); one thread sizes the table (nowait: the sum pass reads the blocks, not the
+    // table, and its closing barrier orders this before the copies). Measured on the settling
+    // bed (2 threads): a single with its barrier, then the copies with theirs, before the sum
+    // pass cost 7.3k + 7.8k + 4.3k cycles a step (docs/performance.md "Fewer barriers").
     if constexpr (kRecords) {
-      if (ranges == 1) {
-        PPOHDEM_OMP(omp single)
-        s.next_records.swap(s.threads[0].records);
-      } else {
-        PPOHDEM_OMP(omp single)
+      if (ranges > 1) {
+        PPOHDEM_OMP(omp single nowait)
         {
           std::size_t count = 0;
           for (std::size_t range = 0; range < ranges; ++range) {
@@ -544,13 +543,9 @@ class Kernel final : public ForceKernel {
           }
           s.next_records.resize(count);
         }
-        PPOHDEM_OMP(omp for schedule(static, 1))
-        for (std::size_t range = 0; range < ranges; ++range) {
-          const ThreadOutput& out = s.threads[range];
-          std::copy(out.records.begin(), out.records.end(), s.next_records.begin() + static_cast<std::ptrdiff_t>(out.base));
-          const auto base = static_cast<std::uint32_t>(out.base);
-          for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) s.next_record_first[i + 1] += base;
-        }
+      }
+      if constexpr (!kHalf) {
+        PPOHDEM_OMP(omp barrier)  // no sum pass: the copies below need the table's size
       }
     }
     // Each pair once: the sums, in the order of the comment at the top (after the barrier
@@ -575,41 +570,69 @@ class Kernel final : public ForceKernel {
       PPOHDEM_OMP(omp for schedule(static, 1))
       for (std::size_t range = 0; range < ranges; ++range) {
         const auto sums_started = std::chrono::steady_clock::now();
+        const std::size_t begin = cut(range);
         const std::size_t last = cut(range + 1);
         double screen = 0.0;  // close_kick's
-        for (std::size_t i = cut(range); i < last; ++i) {
-          // The first pass's sum of the higher-id partners' contacts, then the lower-id
-          // partners' in descending id. A slot without contact adds a zero result instead of
-          // being skipped (no branch, which mispredicted about 2.9 times per particle): the
-          // sum started at +0 and a sum of doubles is -0 only if both terms are, so it is
-          // never -0 and adding +0 (or -0) leaves every bit of it unchanged.
-          Vec3 force = s.f[i];
-          Vec3 torque = s.t[i];
-          const std::uint32_t first = s.first[i];
-          for (std::uint32_t slot = s.upper_first[i]; slot-- > first;) {
-            if (has_ghosts && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
-              const PairResult& r = result_or_zero(s, s.spring_of[slot]);
-              force += r.force;
-              torque += r.torque_i;
-              continue;
+        // The particles in pieces, one per first-pass range they fall in: that range's block
+        // holds their new boundary records, particle i's up to next_record_first[i + 1] and from
+        // where the previous particle's end (the block's start for the range's first particle,
+        // whose next_record_first entry is the previous range's end).
+        for (std::size_t block = 0; block < ranges; ++block) {
+          const std::size_t from = std::max(begin, s.split[block]);
+          const std::size_t to = std::min(last, s.split[block + 1]);
+          if (from >= to) continue;
+          [[maybe_unused]] const BoundaryRecord* const records = s.threads[block].records.data();
+          [[maybe_unused]] std::uint32_t record = kRecords && from != s.split[block] ? s.next_record_first[from] : 0u;
+          for (std::size_t i = from; i < to; ++i) {
+            // The first pass's sum of the higher-id partners' contacts, then the lower-id
+            // partners' in descending id. A slot without contact adds a zero result instead of
+            // being skipped (no branch, which mispredicted about 2.9 times per particle): the
+            // sum started at +0 and a sum of doubles is -0 only if both terms are, so it is
+            // never -0 and adding +0 (or -0) leaves every bit of it unchanged.
+            Vec3 force = s.f[i];
+            Vec3 torque = s.t[i];
+            const std::uint32_t first = s.first[i];
+            for (std::uint32_t slot = s.upper_first[i]; slot-- > first;) {
+              if (has_ghosts && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
+                const PairResult& r = result_or_zero(s, s.spring_of[slot]);
+                force += r.force;
+                torque += r.torque_i;
+                continue;
+              }
+              const PairResult& r = result_or_zero(s, s.lower_code[slot]);  // the lower-id side's
+              force += -r.force;
+              torque += -r.torque_j;
             }
-            const PairResult& r = result_or_zero(s, s.lower_code[slot]);  // the lower-id side's
-            force += -r.force;
-            torque += -r.torque_j;
-          }
-          if constexpr (kRecords) {
-            for (std::uint32_t k = s.next_record_first[i]; k < s.next_record_first[i + 1]; ++k) {
-              const BoundaryRecord& record = s.next_records[k];
-              force += record.force;
-              torque += (record.point - s.x[i]).cross(record.force);
+            if constexpr (kRecords) {
+              for (const std::uint32_t end = s.next_record_first[i + 1]; record < end; ++record) {
+                force += records[record].force;
+                torque += (records[record].point - s.x[i]).cross(records[record].force);
+              }
             }
+            s.f[i] = force;
+            s.t[i] = torque;
+            if (s.closing_kick) screen += close_kick(s, i);  // while f and t are in registers
           }
-          s.f[i] = force;
-          s.t[i] = torque;
-          if (s.closing_kick) screen += close_kick(s, i);  // while f and t are in registers
         }
         s.threads[range].screen = screen;
         s.sum_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - sums_started).count();
+      }
+    }
+    // The table: one range's block is the table itself, swapped in (no copy of 160 bytes per
+    // boundary contact; the buffers rotate, keeping their capacity); else each range copies its
+    // block and offsets its particles' ends, in parallel, after every read of the blocks.
+    if constexpr (kRecords) {
+      if (ranges == 1) {
+        PPOHDEM_OMP(omp single nowait)
+        s.next_records.swap(s.threads[0].records);
+      } else {
+        PPOHDEM_OMP(omp for schedule(static, 1) nowait)
+        for (std::size_t range = 0; range < ranges; ++range) {
+          const ThreadOutput& out = s.threads[range];
+          std::copy(out.records.begin(), out.records.end(), s.next_records.begin() + static_cast<std::ptrdiff_t>(out.base));
+          const auto base = static_cast<std::uint32_t>(out.base);
+          for (std::size_t i = s.split[range]; i < s.split[range + 1]; ++i) s.next_record_first[i + 1] += base;
+        }
       }
     }
     }
