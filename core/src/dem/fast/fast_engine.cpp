@@ -483,11 +483,10 @@ struct FastEngine::Impl {
     const Grid grid = grid_for(s.x, 2.0 * r_max + skin);
     // Counting sort by cell (stable): order[new] = old.
     std::vector<std::uint32_t> cell(n);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    for (std::size_t i = 0; i < n; ++i) cell[i] = static_cast<std::uint32_t>(grid.linear(grid.index(s.x[i])));
     std::vector<std::uint32_t> start(grid.size() + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      cell[i] = static_cast<std::uint32_t>(grid.linear(grid.index(s.x[i])));
-      ++start[cell[i] + 1];
-    }
+    for (std::size_t i = 0; i < n; ++i) ++start[cell[i] + 1];
     for (std::size_t c = 0; c < grid.size(); ++c) start[c + 1] += start[c];
     std::vector<std::uint32_t> order(n);
     {
@@ -497,8 +496,12 @@ struct FastEngine::Impl {
     for_each_particle_array(s, [&](auto& a) { permute(a, order); });
     History::gather(h, order, history_sorted);
     std::swap(h, history_sorted);
-    s.x_build = s.x;
-    for (std::size_t k = 0; k < n; ++k) s.where[s.original[k]] = static_cast<std::uint32_t>(k);
+    s.x_build.resize(s.x.size());  // (= n: the ghosts are dropped before the sort)
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    for (std::size_t k = 0; k < s.x.size(); ++k) {
+      s.x_build[k] = s.x[k];
+      if (k < n) s.where[s.original[k]] = static_cast<std::uint32_t>(k);  // `original` holds distinct indices: one writer per entry
+    }
     return {grid, std::move(start)};
   }
 
@@ -707,11 +710,37 @@ struct FastEngine::Impl {
         }
       }
       for (const auto& lost_here : lost_in) lost_terms.insert(lost_terms.end(), lost_here.begin(), lost_here.end());
-      s.spring_of.assign(s.partner.size(), kNoSpring);
-      std::uint32_t next = 1;  // entry 0: kNoSpring's
-      for (std::size_t b = 0; b < source.size(); ++b) {
-        if (source[b] != kNone) s.spring_of[b] = next++;
+      // Codes 1, 2, ... in slot order (entry 0: kNoSpring's): each block of slots counts its
+      // histories, then numbers them from the sum of the counts before it.
+      s.spring_of.resize(s.partner.size());
+      std::vector<std::uint32_t> block_first(static_cast<std::size_t>(blocks) + 1, 0);
+      const std::size_t slots = source.size();
+      auto block_slots = [&](int block) {
+        return std::pair{slots * static_cast<std::size_t>(block) / static_cast<std::size_t>(blocks),
+                         slots * static_cast<std::size_t>(block + 1) / static_cast<std::size_t>(blocks)};
+      };
+      PPOHDEM_OMP(omp parallel num_threads(blocks))
+      {
+        PPOHDEM_OMP(omp for schedule(static, 1))
+        for (int block = 0; block < blocks; ++block) {
+          const auto [from, to] = block_slots(block);
+          std::uint32_t count = 0;
+          for (std::size_t b = from; b < to; ++b) count += source[b] != kNone;
+          block_first[static_cast<std::size_t>(block) + 1] = count;
+        }
+        PPOHDEM_OMP(omp single)
+        {
+          block_first[0] = 1;
+          for (int block = 0; block < blocks; ++block) block_first[static_cast<std::size_t>(block) + 1] += block_first[static_cast<std::size_t>(block)];
+        }
+        PPOHDEM_OMP(omp for schedule(static, 1))
+        for (int block = 0; block < blocks; ++block) {
+          const auto [from, to] = block_slots(block);
+          std::uint32_t code = block_first[static_cast<std::size_t>(block)];
+          for (std::size_t b = from; b < to; ++b) s.spring_of[b] = source[b] != kNone ? code++ : kNoSpring;
+        }
       }
+      const std::uint32_t next = block_first[static_cast<std::size_t>(blocks)];
       // Pool 0 reuses the last layout's storage (the ranges' pools go: lay_out_springs adds them
       // empty): entries 1 to next - 1 are all written below, entry 0 is kNoSpring's empty one.
       // A fresh zeroed pool, copied in, cost about as much as the rest of this function
@@ -725,7 +754,7 @@ struct FastEngine::Impl {
       for (std::size_t b = 0; b < source.size(); ++b) {
         if (source[b] != kNone) pool[s.spring_of[b]] = h.spring[source[b]];
       }
-      lay_out_springs(s, kernel_threads(n));  // checks the code range, adds the ranges' pools
+      lay_out_springs(s, kernel_threads(n), /*in_slot_order=*/true);  // checks the code range, adds the ranges' pools
     }
     s.record_first = h.record_first;
     s.records.resize(h.records.size());

@@ -379,8 +379,10 @@ inline void balance_split(FastState& s, int threads) {
 /// Lays the springs of every slot out afresh in pool 0, in slot order, with pools for `threads`
 /// OpenMP threads after it (at a list build, and if the thread count changed). Throws if the
 /// codes cannot address as many slots (2^(32 - bits for 1 + threads pools), e.g. 2^30 with 2
-/// threads: then this rank holds too many particles for one process).
-inline void lay_out_springs(FastState& s, int threads) {
+/// threads: then this rank holds too many particles for one process). `in_slot_order`: the
+/// caller has just laid pool 0 out alone in slot order (install_history), so the check of
+/// that below is skipped (a serial pass over the slots).
+inline void lay_out_springs(FastState& s, int threads, bool in_slot_order = false) {
   s.lower_codes_valid = false;
   unsigned pool_bits = 1;
   while ((std::size_t{1} << pool_bits) < static_cast<std::size_t>(threads) + 1) ++pool_bits;
@@ -395,10 +397,14 @@ inline void lay_out_springs(FastState& s, int threads) {
   if (s.spring_pools.size() == 1 && s.spring_of.size() == s.partner.size()) {
     std::uint32_t next = 1;
     bool in_order = true;
-    for (const std::uint32_t code : s.spring_of) {
-      if (code == kNoSpring) continue;
-      in_order = in_order && code == next;
-      ++next;
+    if (in_slot_order) {
+      next = static_cast<std::uint32_t>(s.spring_pools[0].size());
+    } else {
+      for (const std::uint32_t code : s.spring_of) {
+        if (code == kNoSpring) continue;
+        in_order = in_order && code == next;
+        ++next;
+      }
     }
     if (in_order && next == s.spring_pools[0].size()) {
       s.spring_pools.resize(static_cast<std::size_t>(threads) + 1);
