@@ -531,7 +531,8 @@ class Kernel final : public ForceKernel {
     // it (`base`); one thread sizes the table (nowait: the sum pass reads the blocks, not the
     // table, and its closing barrier orders this before the copies). Measured on the settling
     // bed (2 threads): a single with its barrier, then the copies with theirs, before the sum
-    // pass cost 7.3k + 7.8k + 4.3k cycles a step (docs/performance.md "Fewer barriers").
+    // pass cost 7.3k + 7.8k + 4.3k cycles a step (docs/performance.md "Fewer synchronisations
+    // a step").
     if constexpr (kRecords) {
       if (ranges > 1) {
         PPOHDEM_OMP(omp single nowait)
@@ -574,9 +575,9 @@ class Kernel final : public ForceKernel {
         const std::size_t last = cut(range + 1);
         double screen = 0.0;  // close_kick's
         // The particles in pieces, one per first-pass range they fall in: that range's block
-        // holds their new boundary records, particle i's up to next_record_first[i + 1] and from
-        // where the previous particle's end (the block's start for the range's first particle,
-        // whose next_record_first entry is the previous range's end).
+        // holds their new boundary records, particle i's from the previous particle's end to
+        // next_record_first[i + 1] (from the block's start for the range's first particle, whose
+        // next_record_first entry is the previous range's end).
         for (std::size_t block = 0; block < ranges; ++block) {
           const std::size_t from = std::max(begin, s.split[block]);
           const std::size_t to = std::min(last, s.split[block + 1]);
