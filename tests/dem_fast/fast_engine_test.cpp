@@ -551,16 +551,24 @@ TEST(FastEngine, KineticEnergySumsAreTheReferencesBitwiseOnTwoThreads) {
 // More ranges than two: the force kernel cuts its first pass and its sum pass differently, and
 // the sum pass reads each particle's new boundary records from the block of the first-pass
 // range it fell in (force_kernel.cpp), so with 3 and 4 threads (ranges of ~375-500 particles
-// here, more threads than this machine's cores) a sum range meets several blocks. Oracles:
-// the reference's trajectories and contact counts, and the boundary loads of one thread (the
-// loads are summed from the merged records table in storage order, the same bits on any count).
+// here, more threads than this machine's cores) a sum range meets several blocks. A
+// frictionless walled box runs the kernel without a sum pass, whose records are merged right
+// after the first pass. Oracles: the reference's trajectories and contact counts, and the
+// boundary loads of one thread (the loads are summed from the merged records table in storage
+// order, the same bits on any count).
 TEST(FastEngine, ThreeAndFourThreadsKeepTheReferencesBitsAndOneThreadsLoads) {
 #ifndef PPOHDEM_WITH_OPENMP
   GTEST_SKIP() << "built without OpenMP (PPOHDEM_ENABLE_OPENMP=OFF)";
 #else
   const int before = omp_get_max_threads();
-  for (const SceneKind kind : {SceneKind::kHertzFrictionWalls, SceneKind::kLinearFrictionWallsObject}) {
-    const SimulationSetup setup = scene(kind);
+  SimulationSetup frictionless_walls = scene(SceneKind::kHertzFrictionWalls);
+  frictionless_walls.material.friction = 0.0;
+  frictionless_walls.law = HertzMindlin::from_material(frictionless_walls.material);
+  const std::vector<std::pair<std::string, SimulationSetup>> setups = {
+      {"Hertz-Mindlin, walls", scene(SceneKind::kHertzFrictionWalls)},
+      {"linear, walls and an object", scene(SceneKind::kLinearFrictionWallsObject)},
+      {"Hertz frictionless, walls", frictionless_walls}};
+  for (const auto& [name, setup] : setups) {
     ReferenceEngine reference(setup);
     reference.advance(200);
     omp_set_num_threads(1);
@@ -571,7 +579,7 @@ TEST(FastEngine, ThreeAndFourThreadsKeepTheReferencesBitsAndOneThreadsLoads) {
       omp_set_num_threads(threads);
       FastEngine fast(setup);
       fast.advance(200);
-      const std::string what = "scene " + std::to_string(static_cast<int>(kind)) + ", " + std::to_string(threads) + " threads";
+      const std::string what = name + ", " + std::to_string(threads) + " threads";
       expect_same_bits(reference.particles(), fast.particles(), what);
       EXPECT_EQ(reference.contact_counts().particle_pairs, fast.contact_counts().particle_pairs) << what;
       EXPECT_EQ(reference.contact_counts().particle_boundary, fast.contact_counts().particle_boundary) << what;
