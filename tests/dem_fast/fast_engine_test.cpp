@@ -585,8 +585,9 @@ TEST(FastEngine, ThreeAndFourThreadsKeepTheReferencesBitsAndOneThreadsLoads) {
       EXPECT_EQ(reference.contact_counts().particle_boundary, fast.contact_counts().particle_boundary) << what;
       EXPECT_GT(fast.contact_counts().particle_boundary, 20u) << what;  // records to read
       const auto loads = fast.boundary_loads();
-      ASSERT_EQ(loads.size(), loads_one.size()) << what;
-      for (std::size_t b = 0; b < loads.size(); ++b) {
+      // EXPECT, not ASSERT: a return here would leave the thread count changed for later tests.
+      EXPECT_EQ(loads.size(), loads_one.size()) << what;
+      for (std::size_t b = 0; b < std::min(loads.size(), loads_one.size()); ++b) {
         EXPECT_EQ(loads[b].force, loads_one[b].force) << what << ", boundary " << b;
         EXPECT_EQ(loads[b].moment_about_origin, loads_one[b].moment_about_origin) << what << ", boundary " << b;
       }
