@@ -234,6 +234,16 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   for (std::size_t k = 0; k < scene.objects.size(); ++k) {
     std::printf("%s: %zu samples outside its grid\n", scene.objects[k].object->describe().c_str(), outside[k]);
   }
+  // Unequal cores cap what several threads can give (fast_engine.hpp, ThreadSpeeds).
+  if (const auto* fast_engine = dynamic_cast<const dem::fast::FastEngine*>(engine.get())) {
+    const dem::fast::ThreadSpeeds& speeds = fast_engine->thread_speeds();
+    if (speeds.intervals > 0) {
+      std::printf("threads%s: the slowest ran at %.3f of the fastest's speed (force kernel, mean over %zu "
+                  "intervals between list builds; %.0f %% of the time below 0.9)\n",
+                  ranks > 1 ? " of rank 0" : "", speeds.mean_ratio(), speeds.intervals,
+                  100.0 * speeds.fraction_below_0_9());
+    }
+  }
   if (scene.setup.energy_balance) {
     std::printf("checks: largest overlap %.3g %% of the radius (limit %.3g %%), largest energy growth "
                 "%.3g %% (limit %.3g %%)\n", 100.0 * s.margins.overlap, 100.0 * scene.checks.max_overlap,

@@ -145,7 +145,7 @@ write_our_scene() {  # case_dir dir [untracked]
 }
 
 run_ours() {  # engine N steps case_dir [untracked]
-  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} cores mode dir loop label=$1
+  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} cores mode dir loop speeds label=$1
   [ -n "$untracked" ] && label="$engine-untracked"
   for cores in 1 2; do
     for mode in threads ranks; do
@@ -175,6 +175,8 @@ run_ours() {  # engine N steps case_dir [untracked]
       fi
       if [ "$ok" -eq 1 ] && [ -n "$loop" ]; then
         record "ppohdem-$label ($mode)" "$n" "$cores" "$steps" "$loop" "$dir" "$dir/out/final.csv"
+        speeds=$(grep -m1 '^threads' out.txt || true)
+        [ -n "$speeds" ] && echo "round $rep, ppohdem-$label, $cores $mode, $loop s: $speeds" >>"$SPEEDS"
       else
         printf 'ppohdem-%s (%s)\t%s\t%s\t%s\tfailed: see %s/out.txt\n' "$label" "$mode" "$n" "$cores" "$steps" "$dir" | tee -a "$RESULTS"
       fi
@@ -190,7 +192,7 @@ run_ours() {  # engine N steps case_dir [untracked]
 ALTERNATING="$OUT/alternating.tsv"
 printf 'engine\tN\tsteps\t1_thread_psteps_per_s\t2_threads_psteps_per_s\tratio\n' >"$ALTERNATING"
 run_alternating() {  # engine N steps case_dir [untracked]
-  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} label=$1 dir one two
+  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} label=$1 dir one two speeds
   [ -n "$untracked" ] && label="$engine-untracked"
   dir="$case_dir/ppohdem-$label-alternating"
   rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
@@ -205,6 +207,8 @@ run_alternating() {  # engine N steps case_dir [untracked]
     fi
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "ppohdem-$label" "$n" "$steps" "$one" "$two" \
       "$(awk -v a="$one" -v b="$two" 'BEGIN {printf "%.3f", (a > 0 ? b / a : 0)}')" | tee -a "$ALTERNATING"
+    speeds=$(grep -m1 '^threads' out.txt || true)
+    [ -n "$speeds" ] && echo "round $rep, ppohdem-$label, alternating 1 and 2 threads: $speeds" >>"$SPEEDS"
   else
     echo "bench-dem: the alternating run failed: see $dir/out.txt" >&2
   fi
@@ -217,6 +221,11 @@ run_alternating() {  # engine N steps case_dir [untracked]
 PROBE="$OUT/scaling_probe"
 PROBES="$OUT/probe.txt"
 : >"$PROBES"
+# The fast engine's own measure of its threads' speeds against each other (the "threads:" line
+# of `ppohdem simulate`, fast_engine.hpp ThreadSpeeds): below 1 when the two virtual CPUs are not
+# equally fast during the run, which the probe's loops above do not always show.
+SPEEDS="$OUT/thread_speeds.txt"
+: >"$SPEEDS"
 g++ -O2 -fopenmp "$ROOT/validation/peers/scaling_probe.cpp" -o "$PROBE" 2>/dev/null || PROBE=""
 
 LOAD_START=$(uptime)
@@ -334,6 +343,14 @@ done
     echo "and what sharing costs between the two threads (a cache line's round trip, a barrier):"
     echo
     sed 's/^/- /' "$PROBES"
+  fi
+  if [ -s "$SPEEDS" ]; then
+    echo
+    echo "The fast engine's threads against each other, as its force kernel measured them in each run"
+    echo "(the slowest thread's speed over the fastest's; with 2 threads at a ratio q the run can be at"
+    echo "most 1 + q times as fast as on the faster core alone):"
+    echo
+    sed 's/^/- /' "$SPEEDS"
   fi
 } >"$OUT/results.md"
 echo "bench-dem: wrote $OUT/results.md" >&2

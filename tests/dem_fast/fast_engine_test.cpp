@@ -341,6 +341,56 @@ TEST(FastEngine, ThreadRangesFollowTheMeasuredTimes) {
   EXPECT_EQ(s.split[1], 300u);
 }
 
+// The threads' speeds against each other (a diagnostic, fast_engine.hpp ThreadSpeeds), by hand:
+// shares (1/2, 1/2) in (1 s, 2 s) are speeds 1/2 and 1/4 per second, ratio 1/2 over an interval
+// of 2 s; (1/4, 3/4) in (1 s, 1 s): ratio 1/3 over 1 s; (0.4, 0.6) in (2 s, 3 s): equal speeds
+// 0.2, ratio 1 over 3 s. Mean (1/2 * 2 + 1/3 * 1 + 1 * 3) / 6 = 13/18; below 0.9: 3 s of 6.
+// Then balance_split records each interval it cuts after, and one thread records none.
+TEST(FastEngine, ThreadSpeedsAreTheSlowestRangesSpeedOverTheFastests) {
+  fast::ThreadSpeeds speeds;
+  EXPECT_EQ(speeds.mean_ratio(), 1.0);  // no interval yet
+  speeds.record({0.5, 0.5}, {1.0, 2.0});
+  EXPECT_NEAR(speeds.mean_ratio(), 0.5, 1e-15);
+  speeds.record({0.25, 0.75}, {1.0, 1.0});
+  EXPECT_NEAR(speeds.mean_ratio(), 4.0 / 9.0, 1e-15);
+  speeds.record({0.4, 0.6}, {2.0, 3.0});
+  speeds.record({1.0}, {1.0});            // one range
+  speeds.record({0.5, 0.5}, {1.0, 0.0});  // a range without time
+  speeds.record({0.5, 0.5}, {1.0});       // sizes differ
+  EXPECT_EQ(speeds.intervals, 3u);
+  EXPECT_NEAR(speeds.seconds, 6.0, 1e-15);
+  EXPECT_NEAR(speeds.mean_ratio(), 13.0 / 18.0, 1e-15);
+  EXPECT_NEAR(speeds.fraction_below_0_9(), 0.5, 1e-15);
+
+  fast::FastState s;
+  s.owned = 1200;
+  fast::balance_split(s, 2);  // the first cut: no interval before it
+  EXPECT_EQ(s.thread_speeds.intervals, 0u);
+  s.range_seconds = {2.0, 1.0};  // even shares, range 0 took twice as long: ratio 1/2
+  fast::balance_split(s, 2);
+  EXPECT_EQ(s.thread_speeds.intervals, 1u);
+  EXPECT_NEAR(s.thread_speeds.mean_ratio(), 0.5, 1e-15);
+#ifdef PPOHDEM_WITH_OPENMP
+  const SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls);  // 1,500 particles: the kernel on every thread
+  const int before = omp_get_max_threads();
+  auto run = [&](int threads) {
+    omp_set_num_threads(threads);
+    FastEngine engine(setup);
+    engine.advance(300);
+    return std::pair(engine.neighbour_list_builds(), engine.thread_speeds());
+  };
+  const auto [builds_one, one] = run(1);
+  const auto [builds_two, two] = run(2);
+  omp_set_num_threads(before);
+  EXPECT_EQ(one.intervals, 0u);
+  ASSERT_GT(builds_two, 1);  // else no interval was measured
+  EXPECT_GE(two.intervals, 1u);
+  EXPECT_LE(two.intervals, static_cast<std::size_t>(builds_two));  // at most one per list build
+  EXPECT_GT(two.mean_ratio(), 0.0);
+  EXPECT_LE(two.mean_ratio(), 1.0);
+#endif
+}
+
 TEST(FastEngine, FinalStateIsBitwiseTheSameForOneAndTwoThreads) {
 #ifndef PPOHDEM_WITH_OPENMP
   GTEST_SKIP() << "built without OpenMP (PPOHDEM_ENABLE_OPENMP=OFF)";

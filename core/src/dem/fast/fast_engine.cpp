@@ -1305,6 +1305,7 @@ std::optional<LargestOverlap> FastEngine::largest_overlap() const {
 long FastEngine::neighbour_list_builds() const { return impl_->builds; }
 double FastEngine::skin() const { return impl_->skin; }
 std::size_t FastEngine::neighbour_slots() const { return impl_->s.partner.size(); }
+const ThreadSpeeds& FastEngine::thread_speeds() const { return impl_->s.thread_speeds; }
 
 std::size_t FastEngine::memory_bytes() const {
   const FastState& s = impl_->s;

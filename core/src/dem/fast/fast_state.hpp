@@ -241,6 +241,7 @@ struct FastState {
   /// cut with them). Only the speed depends on them, never a result.
   std::vector<double> range_share;
   std::vector<double> range_seconds;
+  ThreadSpeeds thread_speeds;  ///< the intervals of range_share and range_seconds (a diagnostic)
   /// The frictional kernels' second (sum) pass has its own ranges: range r sums the particles
   /// whose neighbour slots begin in the r-th part of the slots, the parts' shares corrected by
   /// the pass's measured times every kSumRecut evaluations (force_kernel.cpp). It reads only
@@ -342,6 +343,7 @@ inline void balance_split(FastState& s, int threads) {
   // particles on 2 threads, the range holding the floor took 1.3x the other's time during the
   // fall, perf).
   const std::vector<double> share = timed_shares(ranges, s.range_share, s.range_seconds);
+  s.thread_speeds.record(s.range_share, s.range_seconds);
   s.range_share = share;
   s.range_seconds.assign(ranges, 0.0);
   std::vector<std::uint64_t> cumulative(n + 1, 0);

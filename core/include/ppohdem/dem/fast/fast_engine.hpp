@@ -49,6 +49,7 @@
 /// FOR BIT those of one rank. With more than one rank, particles(), energies(), save_state()
 /// and restore_state() are collective (every rank calls them, in the same order) and return
 /// the whole system on every rank; the other queries are global values cached at each step.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -70,6 +71,44 @@ struct FastOptions {
   /// where the CPU has AVX (the same bits as one at a time; false: always one at a time, the
   /// tests' way to check both).
   bool vector_contacts = true;
+};
+
+/// How fast the force kernel's threads ran against each other (a diagnostic: no result depends
+/// on it). The kernel's first pass gives each thread one range of particles and re-cuts the
+/// ranges at every list build from their measured times; record() takes one such interval:
+/// each range's share of the work and the seconds it took. A range's speed is share / seconds;
+/// the interval's ratio is the slowest range's speed over the fastest's, 1 for equal cores.
+/// Cores that are not equal (a virtual CPU sharing its physical core with another guest, a
+/// lower clock) give ratios below 1, and then t threads cannot run t times as fast as one:
+/// with 2 threads at a ratio q, at most 1 + q.
+struct ThreadSpeeds {
+  std::size_t intervals = 0;
+  double seconds = 0.0;            ///< the intervals' lengths (the slowest range's seconds), summed [s]
+  double ratio_seconds = 0.0;      ///< ratio x length, summed [s]
+  double seconds_below_0_9 = 0.0;  ///< length of the intervals whose ratio is below 0.9 [s]
+
+  /// One interval of two or more ranges; ignored if a share or a time is not positive or the
+  /// sizes differ (the first interval after a change of the thread count).
+  void record(const std::vector<double>& share, const std::vector<double>& range_seconds) {
+    if (share.size() < 2 || share.size() != range_seconds.size()) return;
+    double slowest = 0.0, fastest = 0.0, length = 0.0;  // speeds [shares / s], length [s]
+    for (std::size_t r = 0; r < share.size(); ++r) {
+      if (!(share[r] > 0.0) || !(range_seconds[r] > 0.0)) return;
+      const double speed = share[r] / range_seconds[r];
+      slowest = r == 0 ? speed : std::min(slowest, speed);
+      fastest = std::max(fastest, speed);
+      length = std::max(length, range_seconds[r]);
+    }
+    const double ratio = slowest / fastest;
+    ++intervals;
+    seconds += length;
+    ratio_seconds += ratio * length;
+    if (ratio < 0.9) seconds_below_0_9 += length;
+  }
+  /// The ratio averaged over the intervals' lengths (1 without intervals).
+  double mean_ratio() const { return seconds > 0.0 ? ratio_seconds / seconds : 1.0; }
+  /// The share of the time in intervals whose ratio is below 0.9.
+  double fraction_below_0_9() const { return seconds > 0.0 ? seconds_below_0_9 / seconds : 0.0; }
 };
 
 class FastEngine final : public DemEngine {
@@ -105,6 +144,9 @@ class FastEngine final : public DemEngine {
   long neighbour_list_builds() const;  ///< number of list builds so far (diagnostics)
   double skin() const;                 ///< [m]
   std::size_t neighbour_slots() const; ///< entries of the full list (diagnostics)
+  /// This rank's force-kernel threads' speeds against each other since construction (no
+  /// intervals with one thread).
+  const ThreadSpeeds& thread_speeds() const;
   /// Bytes held by the engine's arrays (capacity), for the memory-per-particle figure.
   std::size_t memory_bytes() const;
 
