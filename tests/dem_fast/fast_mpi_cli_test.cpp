@@ -128,6 +128,57 @@ TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
   }
 }
 
+// The same bed with the linear spring-dashpot law: its pairs go through the scalar contact
+// law, not the four-lane Hertz-Mindlin one (which the tests above run), so a pair with a
+// lower-id ghost (evaluated on both ranks; the owner adds the force and its own torque
+// r_i x F in the sum pass) takes the scalar path's stores. Without this test, storing the
+// wrong torque there failed no test. The reference engine's final state on 2 and 4 ranks,
+// and contacts across a brick face counted as above. k_n = 1000 N/m keeps dt = 1e-5 s below
+// the stability limit `simulate` prints (4.28e-5 s = 0.2 pi sqrt(m*/k_n)).
+TEST(FastEngineMpi, LinearLawBedIsBitwiseTheReferencesAcrossRanks) {
+  const long steps = 200, every = 100;
+  auto linear = [](const fs::path& scene) {
+    std::ifstream in(scene);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string toml = text.str();
+    const std::string hertz = "model = \"hertz-mindlin\"\n";
+    const auto at = toml.find(hertz);
+    EXPECT_NE(at, std::string::npos) << scene;
+    if (at != std::string::npos) toml.replace(at, hertz.size(), "model = \"linear\"\nstiffness = 1000.0\n");
+    std::ofstream(scene) << toml;
+  };
+  const fs::path ref_dir = scratch("linear_reference");
+  const fs::path ref_scene = write_bed(ref_dir, 15, 15, 19, steps, every);
+  linear(ref_scene);
+  const CommandResult ref = ppohdem::test::run_ppohdem("simulate '" + ref_scene.string() + "' --engine reference --quiet");
+  ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  const std::string ref_final = body(ref_dir / "out" / "final.csv");
+  const auto initial = ppohdem::dem::read_particles_csv(ref_dir / "bed.csv");
+  for (const int ranks : {2, 4}) {
+    SCOPED_TRACE("ranks " + std::to_string(ranks));
+    const fs::path dir = scratch("linear_np" + std::to_string(ranks));
+    const fs::path scene = write_bed(dir, 15, 15, 19, steps, every);
+    linear(scene);
+    const CommandResult run = run_mpi(ranks, 1, scene, "--engine fast --quiet");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(body(dir / "out" / "final.csv"), ref_final);
+    const auto final = ppohdem::dem::read_particles_csv(dir / "out" / "final.csv");
+    const Bricks b = bricks_from(run.output, initial);
+    int straddling = 0;
+    for (std::size_t i = 0; i < final.size(); ++i) {
+      for (std::size_t j = i + 1; j < final.size(); ++j) {
+        const double reach = final[i].radius + final[j].radius;
+        if ((final[i].position - final[j].position).squaredNorm() < reach * reach &&
+            b.of(final[i].position) != b.of(final[j].position)) {
+          ++straddling;
+        }
+      }
+    }
+    EXPECT_GE(straddling, 3) << "no contact across a brick face exercised";  // 5 on 2 ranks (2026-12-03)
+  }
+}
+
 /// The scene file with `energy_balance = false` added to its [simulation] table.
 void untrack_energies(const fs::path& scene) {
   std::ifstream in(scene);
