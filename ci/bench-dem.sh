@@ -145,7 +145,7 @@ write_our_scene() {  # case_dir dir [untracked]
 }
 
 run_ours() {  # engine N steps case_dir [untracked]
-  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} cores mode dir loop speeds label=$1
+  local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} cores mode dir loop speeds one_loop="" line label=$1
   [ -n "$untracked" ] && label="$engine-untracked"
   for cores in 1 2; do
     for mode in threads ranks; do
@@ -175,8 +175,15 @@ run_ours() {  # engine N steps case_dir [untracked]
       fi
       if [ "$ok" -eq 1 ] && [ -n "$loop" ]; then
         record "ppohdem-$label ($mode)" "$n" "$cores" "$steps" "$loop" "$dir" "$dir/out/final.csv"
+        [ "$cores" -eq 1 ] && one_loop=$loop
         speeds=$(grep -m1 '^threads' out.txt || true)
-        [ -n "$speeds" ] && echo "round $rep, ppohdem-$label, $cores $mode, $loop s: $speeds" >>"$SPEEDS"
+        if [ -n "$speeds" ]; then
+          # With this round's 1-thread time and the probe's line round trip, so that each line
+          # says in which state of the machine its ratio was measured.
+          line=$(tail -n 1 "$PROBES" 2>/dev/null | grep -oE 'line [0-9]+ ns' || true)
+          echo "round $rep, ppohdem-$label, $cores $mode: $loop s$( [ -n "$one_loop" ] && awk -v a="$one_loop" -v b="$loop" \
+            'BEGIN {printf " against %.3f s on 1 thread (%.2fx)", a, a / b}')${line:+, probe $line}; $speeds" >>"$SPEEDS"
+        fi
       else
         printf 'ppohdem-%s (%s)\t%s\t%s\t%s\tfailed: see %s/out.txt\n' "$label" "$mode" "$n" "$cores" "$steps" "$dir" | tee -a "$RESULTS"
       fi
@@ -348,7 +355,9 @@ done
     echo
     echo "The fast engine's threads against each other, as its force kernel measured them in each run"
     echo "(the slowest thread's speed over the fastest's; with 2 threads at a ratio q the run can be at"
-    echo "most 1 + q times as fast as on the faster core alone):"
+    echo "most 1 + q times as fast as on the faster core alone), with the same round's 1-thread run and"
+    echo "the probe's line round trip (docs/performance.md \"Two states of the VM\": 90-170 ns and"
+    echo "380-450 ns are two placements of the two vCPUs, and the 2-thread ratio follows them):"
     echo
     sed 's/^/- /' "$SPEEDS"
   fi
