@@ -83,7 +83,7 @@ struct FastOptions {
 /// with 2 threads at a ratio q, at most 1 + q.
 struct ThreadSpeeds {
   std::size_t intervals = 0;
-  double seconds = 0.0;            ///< the intervals' lengths (the slowest range's seconds), summed [s]
+  double seconds = 0.0;            ///< the intervals' lengths (each its longest range time), summed [s]
   double ratio_seconds = 0.0;      ///< ratio x length, summed [s]
   double seconds_below_0_9 = 0.0;  ///< length of the intervals whose ratio is below 0.9 [s]
 
