@@ -128,6 +128,18 @@ TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
   }
 }
 
+/// The scene file with the first occurrence of `from` replaced by `to` (which must be there).
+void replace_in_scene(const fs::path& scene, const std::string& from, const std::string& to) {
+  std::ifstream in(scene);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  const auto at = toml.find(from);
+  ASSERT_NE(at, std::string::npos) << scene << " has no " << from;
+  toml.replace(at, from.size(), to);
+  std::ofstream(scene) << toml;
+}
+
 // The same bed with the linear spring-dashpot law: its pairs go through the scalar contact
 // law, not the four-lane Hertz-Mindlin one (which the tests above run), so a pair with a
 // lower-id ghost (evaluated on both ranks; the owner adds the force and its own torque
@@ -138,15 +150,7 @@ TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
 TEST(FastEngineMpi, LinearLawBedIsBitwiseTheReferencesAcrossRanks) {
   const long steps = 200, every = 100;
   auto linear = [](const fs::path& scene) {
-    std::ifstream in(scene);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string toml = text.str();
-    const std::string hertz = "model = \"hertz-mindlin\"\n";
-    const auto at = toml.find(hertz);
-    EXPECT_NE(at, std::string::npos) << scene;
-    if (at != std::string::npos) toml.replace(at, hertz.size(), "model = \"linear\"\nstiffness = 1000.0\n");
-    std::ofstream(scene) << toml;
+    replace_in_scene(scene, "model = \"hertz-mindlin\"\n", "model = \"linear\"\nstiffness = 1000.0\n");
   };
   const fs::path ref_dir = scratch("linear_reference");
   const fs::path ref_scene = write_bed(ref_dir, 15, 15, 19, steps, every);
@@ -181,15 +185,7 @@ TEST(FastEngineMpi, LinearLawBedIsBitwiseTheReferencesAcrossRanks) {
 
 /// The scene file with `energy_balance = false` added to its [simulation] table.
 void untrack_energies(const fs::path& scene) {
-  std::ifstream in(scene);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string toml = text.str();
-  const std::string table = "[simulation]\n";
-  const auto at = toml.find(table);
-  ASSERT_NE(at, std::string::npos) << scene;
-  toml.insert(at + table.size(), "energy_balance = false\n");
-  std::ofstream(scene) << toml;
+  replace_in_scene(scene, "[simulation]\n", "[simulation]\nenergy_balance = false\n");
 }
 
 // The reliability pile: moving wall, a moving and spinning distance-field object (boundary
