@@ -73,35 +73,6 @@ struct History {
   std::vector<std::uint32_t> record_first{0};
   std::vector<BoundaryRecord> records;  ///< .particle is not used here
 
-  /// g := the histories of h's particles order[0], order[1], ... (a copy in that order; each
-  /// particle's block is copied on the OpenMP threads, after the offsets are summed). g's
-  /// storage is reused (see FastEngine::Impl::history).
-  static void gather(const History& h, const std::vector<std::uint32_t>& order, History& g) {
-    const std::size_t n = order.size();
-    g.first.assign(n + 1, 0);
-    g.record_first.assign(n + 1, 0);
-    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
-    for (std::size_t k = 0; k < n; ++k) {  // the counts (reads at random: on the threads)
-      g.first[k + 1] = h.first[order[k] + 1] - h.first[order[k]];
-      g.record_first[k + 1] = h.record_first[order[k] + 1] - h.record_first[order[k]];
-    }
-    for (std::size_t k = 0; k < n; ++k) {  // their running sums, the offsets
-      g.first[k + 1] += g.first[k];
-      g.record_first[k + 1] += g.record_first[k];
-    }
-    g.partner_id.resize(g.first[n]);
-    g.spring.resize(g.first[n]);
-    g.records.resize(g.record_first[n]);
-    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::uint32_t from = h.first[order[k]], count = h.first[order[k] + 1] - from;
-      std::copy_n(h.partner_id.begin() + from, count, g.partner_id.begin() + g.first[k]);
-      std::copy_n(h.spring.begin() + from, count, g.spring.begin() + g.first[k]);
-      const std::uint32_t record_from = h.record_first[order[k]];
-      std::copy_n(h.records.begin() + record_from, h.record_first[order[k] + 1] - record_from,
-                  g.records.begin() + g.record_first[k]);
-    }
-  }
   void append_from(const History& h, std::size_t k) {
     for (std::uint32_t a = h.first[k]; a < h.first[k + 1]; ++a) {
       partner_id.push_back(h.partner_id[a]);
@@ -210,10 +181,11 @@ struct FastEngine::Impl {
   mutable std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
-  /// A list build's histories (build_lists) and the cell sort's copy of them: kept between
-  /// builds so that their storage is reused, not allocated and zeroed afresh (about 0.5M cycles
-  /// of a 10,000-particle build: docs/performance.md "Cheaper list builds, second pass").
-  History history, history_sorted;
+  /// A list build's histories (build_lists): kept between builds so that their storage is
+  /// reused, not allocated and zeroed afresh (about 0.5M cycles of a 10,000-particle build:
+  /// docs/performance.md "Cheaper list builds, second pass"). They stay in the order before the
+  /// cell sort: install_history reads them through the sort's order.
+  History history;
   std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
 
   /// Keeps the particles this rank owns (all of them on one rank).
@@ -437,12 +409,12 @@ struct FastEngine::Impl {
     take_history(h);
     for_each_particle_array(s, [&](auto& a) { a.resize(s.owned); });  // drop the ghosts
     if (distributed()) migrate(h);
-    const CellOrder sorted = sort_owned_by_cell(h);
+    const CellOrder sorted = sort_owned_by_cell();
     make_ghosts();
     // With one rank there are no ghosts: the search's cells are the sort's (the same grid,
     // which depends only on the positions' values, and the particles now in its cell order).
     search_neighbours(distributed() ? nullptr : &sorted);
-    install_history(h);
+    install_history(h, sorted.order);
     mark_near_boundaries();
     s.split_stale = true;  // the kernel's ranges are cut afresh for the new order
     add_lost_energy();
@@ -473,16 +445,17 @@ struct FastEngine::Impl {
     }
   }
 
-  /// The cells of a cell sort: its grid, and start[c] the first (sorted) index in cell c
-  /// (start[c + 1] the end).
+  /// The cells of a cell sort: its grid, start[c] the first (sorted) index in cell c
+  /// (start[c + 1] the end), and order[k] the index before the sort of the particle now at k.
   struct CellOrder {
     Grid grid;
     std::vector<std::uint32_t> start;
+    std::vector<std::uint32_t> order;
   };
 
-  /// Sorts the owned particles by cell (stable); returns the grid and the cells' starts
-  /// (empty if there are no owned particles).
-  CellOrder sort_owned_by_cell(History& h) {
+  /// Sorts the owned particles by cell (stable); returns the grid, the cells' starts and the
+  /// order (empty if there are no owned particles).
+  CellOrder sort_owned_by_cell() {
     const std::size_t n = s.owned;
     s.where.assign(total, kNotHere);
     if (n == 0) return {};
@@ -516,15 +489,13 @@ struct FastEngine::Impl {
         permute(a, order);
       }
     });
-    History::gather(h, order, history_sorted);
-    std::swap(h, history_sorted);
     s.x_build.resize(s.x.size());  // (= n: the ghosts are dropped before the sort)
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t k = 0; k < s.x.size(); ++k) {
       s.x_build[k] = s.x[k];
       if (k < n) s.where[s.original[k]] = static_cast<std::uint32_t>(k);  // `original` holds distinct indices: one writer per entry
     }
-    return {grid, std::move(start)};
+    return {grid, std::move(start), std::move(order)};
   }
 
   /// Neighbour search over owned + ghost particles for the owned ones, each particle
@@ -703,7 +674,10 @@ struct FastEngine::Impl {
 
   /// Pair histories by partner id (both ranges ascending in id: a merge); boundary records
   /// follow their particle. A pair history whose partner is no longer in the list is lost.
-  void install_history(const History& h) {
+  /// h is in the order before the cell sort: particle k's history is h's entry before[k]
+  /// (read in place: copying h into the new order first took 0.33-0.55M cycles of a
+  /// 10,000-particle build, docs/performance.md "The cell sort carries less").
+  void install_history(const History& h, const std::vector<std::uint32_t>& before) {
     const std::size_t n = s.owned;
     const int blocks = n >= kParallelMin ? max_threads() : 1;
     if (s.friction) {
@@ -717,8 +691,8 @@ struct FastEngine::Impl {
         auto& lost_here = lost_in[static_cast<std::size_t>(block)];
         for (std::size_t k = n * static_cast<std::size_t>(block) / static_cast<std::size_t>(blocks);
              k < n * static_cast<std::size_t>(block + 1) / static_cast<std::size_t>(blocks); ++k) {
-          std::uint32_t a = h.first[k];
-          const std::uint32_t a_end = h.first[k + 1];
+          std::uint32_t a = h.first[before[k]];
+          const std::uint32_t a_end = h.first[before[k] + 1];
           for (std::uint32_t b = s.first[k]; b < s.first[k + 1]; ++b) {
             const std::int64_t want = s.id[s.partner[b]];
             for (; a < a_end && h.partner_id[a] < want; ++a) lost(lost_here, h.spring[a], k, h.partner_id[a]);
@@ -778,12 +752,18 @@ struct FastEngine::Impl {
       }
       lay_out_springs(s, kernel_threads(n), /*in_slot_order=*/true);  // checks the code range, adds the ranges' pools
     }
-    s.record_first = h.record_first;
-    s.records.resize(h.records.size());
+    // The boundary records: counts in the new order (reads at random: on the threads), their
+    // running sums, then each particle's block copied.
+    s.record_first.assign(n + 1, 0);
+    PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+    for (std::size_t k = 0; k < n; ++k) s.record_first[k + 1] = h.record_first[before[k] + 1] - h.record_first[before[k]];
+    for (std::size_t k = 0; k < n; ++k) s.record_first[k + 1] += s.record_first[k];
+    s.records.resize(s.record_first[n]);
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t k = 0; k < n; ++k) {
-      for (std::uint32_t r = h.record_first[k]; r < h.record_first[k + 1]; ++r) {
-        s.records[r] = h.records[r];
+      std::uint32_t r = s.record_first[k];
+      for (std::uint32_t from = h.record_first[before[k]]; from < h.record_first[before[k] + 1]; ++from, ++r) {
+        s.records[r] = h.records[from];
         s.records[r].particle = static_cast<std::uint32_t>(k);
       }
     }
@@ -1337,9 +1317,8 @@ std::size_t FastEngine::memory_bytes() const {
   pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes.x) + bytes(impl_->search_probes.y) + bytes(impl_->search_probes.z) +
                 bytes(impl_->search_probes.r) + bytes(impl_->all_terms);  // the engine's reused work buffers
   for (const auto& buffer : impl_->search_buffers) pool_bytes += bytes(buffer);
-  for (const History* h : {&impl_->history, &impl_->history_sorted}) {  // kept between list builds
-    pool_bytes += bytes(h->first) + bytes(h->partner_id) + bytes(h->spring) + bytes(h->record_first) + bytes(h->records);
-  }
+  const History& h = impl_->history;  // kept between list builds
+  pool_bytes += bytes(h.first) + bytes(h.partner_id) + bytes(h.spring) + bytes(h.record_first) + bytes(h.records);
   return bytes(s.id) + bytes(s.original) + bytes(s.where) + bytes(s.x) + bytes(s.v) + bytes(s.w) + bytes(s.f) + bytes(s.t) +
          bytes(s.pv) + bytes(s.pw) + bytes(s.x_build) + bytes(s.radius) + bytes(s.mass) + bytes(s.inertia) + bytes(s.material) +
          bytes(s.escaped_via) + bytes(s.terms) + bytes(s.first) +
