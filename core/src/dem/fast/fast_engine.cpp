@@ -476,8 +476,9 @@ struct FastEngine::Impl {
     // set from x below, and the energy terms are the last evaluation's outputs, which this
     // step's evaluation (after the build) writes afresh for every owned particle before any
     // sum reads them (force_kernel.cpp, close_kick). They are zeroed (what untracked terms
-    // hold) rather than moved: moving their 64-byte records, through a new zero-filled
-    // vector, was half the sort's time (docs/performance.md "The cell sort carries less").
+    // hold) rather than moved: moving their 64-byte records, through a new vector zero-filled
+    // on one thread, was about a third of the sort's time on 2 threads (docs/performance.md
+    // "The cell sort carries less").
     for_each_particle_array(s, [&](auto& a) {
       using Array = std::decay_t<decltype(a)>;
       if constexpr (std::is_same_v<Array, std::vector<FastState::ParticleTerms>>) {
