@@ -42,7 +42,7 @@
 #include "ppohdem/dem/scene.hpp"
 #include "ppohdem/error.hpp"
 #include "ppohdem/provenance.hpp"
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 
 namespace ppohdem::app {
 
@@ -131,7 +131,7 @@ class ThreadAlternation {
 
 const std::map<std::string, dem::EngineFactory>& engines() {
   static const std::map<std::string, dem::EngineFactory> table{
-      {"reference", &reference::dem::ReferenceEngine::make},
+      {"reference", &dem::reference::ReferenceEngine::make},
       {"fast", &dem::fast::FastEngine::make},
       {"optimized", &dem::fast::FastEngine::make}};
   return table;

@@ -26,8 +26,8 @@
 #include "ppohdem/mesh/placement.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/provenance.hpp"
-#include "ppohdem/reference/compat/ppohdem10_voxelizer.hpp"
-#include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/compat/ppohdem10_voxelizer.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 
 namespace ppohdem::app {
@@ -108,25 +108,25 @@ BuildResult build_field(const TriangleMesh& mesh, const GridSpec& grid, const Vo
       throw InputError("--precision: expected double or float, got '" + o.precision + "'");
     }
     if (o.threads < 0) throw InputError("--threads must be >= 0 (0: all cores)");
-    FastSdfOptions options;
+    sdf::fast::FastSdfOptions options;
     options.threads = o.threads;
     if (!(o.band >= 0.0)) throw InputError("--band must be >= 0 cells (0: exact everywhere)");
     options.band_cells = o.band;
-    FastSdfBuilder builder(options);
+    sdf::fast::FastSdfBuilder builder(options);
     if (comm.rank() == 0) builder.set_progress(make_progress(grid.node_count(), o.quiet));
     if (o.precision == "float") {
-      const std::vector<float> values = build_sdf_distributed_float(builder, comm, mesh, grid, &r.report);
+      const std::vector<float> values = sdf::fast::build_sdf_distributed_float(builder, comm, mesh, grid, &r.report);
       r.field_bytes = values.size() * sizeof(float);
       r.field.grid = grid;
       r.field.values.assign(values.begin(), values.end());  // the writers take doubles
     } else {
-      r.field = build_sdf_distributed(builder, comm, mesh, grid, &r.report);
+      r.field = sdf::fast::build_sdf_distributed(builder, comm, mesh, grid, &r.report);
       r.field_bytes = r.field.values.size() * sizeof(double);
     }
   } else {
     if (o.band != 0.0) throw InputError("--band applies to --method fast only");
     if (comm.size() > 1) throw InputError("--method " + o.method + " is serial: run it without mpirun, or use --method fast");
-    auto builder = reference::make_reference_sdf_builder(o.method);
+    auto builder = sdf::reference::make_reference_sdf_builder(o.method);
     builder->set_progress(make_progress(grid.node_count(), o.quiet));
     r.field = builder->build(mesh, grid, &r.report);
     r.field_bytes = r.field.values.size() * sizeof(double);
@@ -205,7 +205,7 @@ void run_legacy_compat(const VoxelizeOptions& o, const VoxelizerInput& in, const
   placement.mode = PlacementMode::kPpohdem10;
   const TriangleMesh mesh = place_mesh(raw, placement);
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<double> values = reference::compat::ppohdem10_distance(mesh, in, o.ranks);
+  const std::vector<double> values = compat::ppohdem10_distance(mesh, in, o.ranks);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_distance_dat(out_dir, values, in.voxels, o.ranks);
   write_stl(out_dir / "object_mesh.stl", mesh, StlEncoding::kAscii, /*use_file_normals=*/true);

@@ -12,8 +12,8 @@
 namespace ppohdem {
 namespace {
 
-using reference::compat::test_support::dem_fixture;
-using reference::compat::test_support::lay_out_sample;
+using compat::test_support::dem_fixture;
+using compat::test_support::lay_out_sample;
 namespace fs = std::filesystem;
 
 TEST(CompatDemCli, FirstFramesAreByteIdenticalToTheOriginal) {

@@ -9,11 +9,11 @@
 #include <fstream>
 #include <string>
 
-#include "ppohdem/reference/compat/ppohdem10_dem.hpp"
+#include "ppohdem/compat/ppohdem10_dem.hpp"
 #include "test_paths.hpp"
 #include "xz_file.hpp"
 
-namespace ppohdem::reference::compat::test_support {
+namespace ppohdem::compat::test_support {
 
 namespace fs = std::filesystem;
 
@@ -87,4 +87,4 @@ inline StateDiff compare_states(const Ppohdem10State& ours, const Ppohdem10State
   return d;
 }
 
-}  // namespace ppohdem::reference::compat::test_support
+}  // namespace ppohdem::compat::test_support

@@ -1,4 +1,4 @@
-// `--compat ppohdem-1.0` DEM (reference/compat/ppohdem10_dem.hpp) against the original program's
+// `--compat ppohdem-1.0` DEM (reference/compat/include/ppohdem/compat/ppohdem10_dem.hpp) against the original program's
 // own outputs (fixtures/ppohdem-1.0/dem-sample/, the patched original's full-precision dumps and
 // its data/outNNN.dat, objects_distanceNNN.csv, objNNN.pov files). The oracle is the original
 // Fortran program as it ran: nothing here was produced by ppohdem.
@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "ppohdem10_dem_format.hpp"  // reference/src/compat (private header)
+#include "ppohdem10_dem_format.hpp"  // reference/compat/src (private header)
 #include "ppohdem/error.hpp"
 #include "ppohdem10_dem_sample.hpp"
 
-namespace ppohdem::reference::compat {
+namespace ppohdem::compat {
 namespace {
 
 using namespace test_support;
@@ -252,4 +252,4 @@ TEST(Ppohdem10DemObject, FieldAndPovAreTheOriginalsByteForByte) {
 }
 
 }  // namespace
-}  // namespace ppohdem::reference::compat
+}  // namespace ppohdem::compat

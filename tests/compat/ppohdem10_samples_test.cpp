@@ -15,11 +15,11 @@
 #include "ppohdem/io/legacy_inputs.hpp"
 #include "ppohdem/mesh/placement.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
-#include "ppohdem/reference/compat/ppohdem10_voxelizer.hpp"
+#include "ppohdem/compat/ppohdem10_voxelizer.hpp"
 #include "test_paths.hpp"
 #include "xz_file.hpp"
 
-namespace ppohdem::reference::compat {
+namespace ppohdem::compat {
 namespace {
 
 namespace fs = std::filesystem;
@@ -150,4 +150,4 @@ TEST(Ppohdem10Cube, UnreachedSentinelNodesAreCountedAsTheOriginalReports) {
 }
 
 }  // namespace
-}  // namespace ppohdem::reference::compat
+}  // namespace ppohdem::compat

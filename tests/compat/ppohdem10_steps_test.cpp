@@ -6,11 +6,13 @@
 
 #include <cmath>
 
-#include "ppohdem/reference/compat/ppohdem10_steps.hpp"
-#include "ppohdem/reference/sdf/closest_point_triangle.hpp"
+#include "ppohdem/compat/ppohdem10_steps.hpp"
+#include "ppohdem/sdf/reference/closest_point_triangle.hpp"
 
-namespace ppohdem::reference::compat {
+namespace ppohdem::compat {
 namespace {
+using sdf::reference::is_degenerate_triangle;  // the reference geometry the steps are checked against
+using sdf::reference::squared_distance_to_triangle;
 
 // Axis-aligned box [lo, hi] as 12 outward, counter-clockwise triangles. Every face is split
 // along the diagonal from its lowest corner (in the two in-face coordinates) to its highest.
@@ -131,4 +133,4 @@ RC_GTEST_PROP(Ppohdem10AxisVote, NeverSaysInsideForAConvexMesh, ()) {
 }
 
 }  // namespace
-}  // namespace ppohdem::reference::compat
+}  // namespace ppohdem::compat

@@ -8,11 +8,11 @@
 
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 
 namespace ppohdem::dem::test {
 
-using EngineTypes = ::testing::Types<ppohdem::reference::dem::ReferenceEngine, ppohdem::dem::fast::FastEngine>;
+using EngineTypes = ::testing::Types<ppohdem::dem::reference::ReferenceEngine, ppohdem::dem::fast::FastEngine>;
 
 /// Soft glass-like material of DESIGN.md's peer comparison.
 inline Material peer_material(double restitution, double friction) {

@@ -81,7 +81,7 @@ TEST(Scene, IssueExampleRunsAsWrittenAndGivesRestitution) {
   fs::copy(ppohdem::test::fixture("scenes/two_spheres.csv"), dir / "two_spheres.csv");
   Scene scene = read_scene(dir / "two_spheres.toml");
   scene.output.progress = false;
-  ppohdem::reference::dem::ReferenceEngine engine(scene.setup);
+  ppohdem::dem::reference::ReferenceEngine engine(scene.setup);
   std::ostringstream log;
   const RunSummary s = run_scene(engine, scene, "test header", log);
   EXPECT_EQ(s.steps, 40000);
@@ -124,8 +124,8 @@ TEST(Scene, EnergyBalanceOffRunsTheSameMotionWithNanContactEnergies) {
   on.output.progress = off.output.progress = false;
   on.output.every = off.output.every = 0;
   std::ostringstream log;
-  ppohdem::reference::dem::ReferenceEngine engine_on(on.setup);
-  ppohdem::reference::dem::ReferenceEngine engine_off(off.setup);
+  ppohdem::dem::reference::ReferenceEngine engine_on(on.setup);
+  ppohdem::dem::reference::ReferenceEngine engine_off(off.setup);
   run_scene(engine_on, on, "test header", log);
   const RunSummary s = run_scene(engine_off, off, "test header", log);
   EXPECT_TRUE(std::isnan(s.final.dissipated));
@@ -161,12 +161,12 @@ SimulationSetup two_soft_spheres(double gap_fraction, double dt) {
 TEST(SetupValidation, RejectsInitialOverlapAboveOnePercentUnlessAllowed) {
   // Overlap 2% of the radius (gap fraction -0.01 on each side): refused, then allowed.
   SimulationSetup s = two_soft_spheres(-0.01, 1e-7);
-  const std::string msg = error_of([&] { ppohdem::reference::dem::ReferenceEngine e(s); });
+  const std::string msg = error_of([&] { ppohdem::dem::reference::ReferenceEngine e(s); });
   EXPECT_NE(msg.find("overlap"), std::string::npos) << msg;
   s.allow_initial_overlap = true;
-  EXPECT_NO_THROW(ppohdem::reference::dem::ReferenceEngine e(s));
+  EXPECT_NO_THROW(ppohdem::dem::reference::ReferenceEngine e(s));
   // 0.8% is within the 1% allowance.
-  EXPECT_NO_THROW(ppohdem::reference::dem::ReferenceEngine e(two_soft_spheres(-0.004, 1e-7)));
+  EXPECT_NO_THROW(ppohdem::dem::reference::ReferenceEngine e(two_soft_spheres(-0.004, 1e-7)));
 }
 
 TEST(SetupValidation, RejectsTimeStepAboveRayleighLimitGivingTheLimit) {
@@ -176,17 +176,17 @@ TEST(SetupValidation, RejectsTimeStepAboveRayleighLimitGivingTheLimit) {
   const double t_r = 3.14159265358979 * 0.5e-3 * std::sqrt(2500.0 / g) / (0.1631 * 0.3 + 0.8766);
   EXPECT_NEAR(rayleigh_time(0.5e-3, peer_material(0.5, 0.0)), t_r, 1e-15);
   SimulationSetup s = two_soft_spheres(0.1, 1.0e-5);
-  const std::string msg = error_of([&] { ppohdem::reference::dem::ReferenceEngine e(s); });
+  const std::string msg = error_of([&] { ppohdem::dem::reference::ReferenceEngine e(s); });
   EXPECT_NE(msg.find("8.654e-06 s"), std::string::npos) << msg;
   EXPECT_NE(msg.find("--force"), std::string::npos) << msg;
   s.force_time_step = true;
-  EXPECT_NO_THROW(ppohdem::reference::dem::ReferenceEngine e(s));
+  EXPECT_NO_THROW(ppohdem::dem::reference::ReferenceEngine e(s));
 }
 
 TEST(SetupValidation, RejectsNegativeRadius) {
   SimulationSetup s = two_soft_spheres(0.1, 1e-7);
   s.particles[1].radius = -1e-3;
-  const std::string msg = error_of([&] { ppohdem::reference::dem::ReferenceEngine e(s); });
+  const std::string msg = error_of([&] { ppohdem::dem::reference::ReferenceEngine e(s); });
   EXPECT_NE(msg.find("radius must be > 0"), std::string::npos) << msg;
 }
 
@@ -208,7 +208,7 @@ TEST(Boundaries, ParticleLeavingTheBoxIsCountedOnce) {
   // A particle crossing a wall plane in one step (dt forced far above the limit).
   const SimulationSetup s = floor_scene(1.0e-3, {sphere(1, Vec3(0, 0, 0.6e-3), Vec3(0, 0, -10.0), 0.5e-3),
                                                  sphere(2, Vec3(0.01, 0, 0.6e-3), Vec3::Zero(), 0.5e-3)});
-  ppohdem::reference::dem::ReferenceEngine engine(s);
+  ppohdem::dem::reference::ReferenceEngine engine(s);
   engine.advance(5);
   EXPECT_EQ(engine.escaped_count(), 1u);
 }
@@ -224,7 +224,7 @@ TEST(Boundaries, FastEngineSeesAWallThatWasFarAtTheListBuild) {
                                            sphere(2, Vec3(0.01, 0, 0.499e-3), Vec3::Zero(), 0.5e-3),
                                            sphere(3, Vec3(0.02, 0, 10.15e-3), Vec3(0, 0, -30.0), 0.5e-3)});
   s.gravity = Vec3(0, 0, -9.81);
-  ppohdem::reference::dem::ReferenceEngine reference(s);
+  ppohdem::dem::reference::ReferenceEngine reference(s);
   ppohdem::dem::fast::FastEngine fast(s);
   std::size_t most_touching = 0;
   for (int step = 0; step < 400; ++step) {

@@ -8,12 +8,12 @@
 
 #include "dem_test_support.hpp"
 #include "ppohdem/dem/contact_force.hpp"
-#include "ppohdem/reference/dem/cell_list.hpp"
+#include "ppohdem/dem/reference/cell_list.hpp"
 
 namespace ppohdem::dem::test {
 namespace {
 
-using Engine = ppohdem::reference::dem::ReferenceEngine;  // rapidcheck props are not typed
+using Engine = ppohdem::dem::reference::ReferenceEngine;  // rapidcheck props are not typed
 
 constexpr double kR = 0.5e-3;  // m
 
@@ -274,8 +274,8 @@ RC_GTEST_PROP(CellList, FindsExactlyTheBruteForcePairs, ()) {
     const Vec3 far(*rc::gen::inRange(-1, 2), *rc::gen::inRange(-1, 2), *rc::gen::inRange(-1, 2));
     p.push_back(sphere(2000000000 + k, far + Vec3(k % 2, 0, 0) * 5e-4, Vec3::Zero(), 1e-3));
   }
-  RC_ASSERT(ppohdem::reference::dem::touching_pairs(p) ==
-            ppohdem::reference::dem::touching_pairs_brute_force(p));
+  RC_ASSERT(ppohdem::dem::reference::touching_pairs(p) ==
+            ppohdem::dem::reference::touching_pairs_brute_force(p));
 }
 
 }  // namespace

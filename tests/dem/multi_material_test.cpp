@@ -193,7 +193,7 @@ void expect_same_bits(const Particles& a, const Particles& b, const std::string&
 
 TEST(MultiMaterial, ReferenceAndFastEnginesAgreeBitwiseOnAMixedScene) {
   const SimulationSetup s = mixed_scene();
-  ppohdem::reference::dem::ReferenceEngine reference(s);
+  ppohdem::dem::reference::ReferenceEngine reference(s);
   ppohdem::dem::fast::FastEngine fast(s);
   for (int block = 0; block < 3; ++block) {
     reference.advance(100);
@@ -233,8 +233,8 @@ TEST(MultiMaterial, EqualMaterialsUnderTwoNamesRunExactlyTheOneMaterialScene) {
   for (int engine = 0; engine < 2; ++engine) {
     std::unique_ptr<DemEngine> a, b;
     if (engine == 0) {
-      a = std::make_unique<ppohdem::reference::dem::ReferenceEngine>(one);
-      b = std::make_unique<ppohdem::reference::dem::ReferenceEngine>(two);
+      a = std::make_unique<ppohdem::dem::reference::ReferenceEngine>(one);
+      b = std::make_unique<ppohdem::dem::reference::ReferenceEngine>(two);
     } else {
       a = std::make_unique<ppohdem::dem::fast::FastEngine>(one);
       b = std::make_unique<ppohdem::dem::fast::FastEngine>(two);

@@ -19,7 +19,7 @@
 #include "ppohdem/dem/ordered_sum.hpp"
 #include "ppohdem/dem/particle_generator.hpp"
 #include "ppohdem/dem/run_diagnostics.hpp"
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 #include "../../core/src/dem/fast/fast_state.hpp"  // balance_split (internal)
 
 #ifdef PPOHDEM_WITH_OPENMP
@@ -30,7 +30,7 @@ namespace ppohdem::dem::test {
 namespace {
 
 using ppohdem::dem::fast::FastEngine;
-using ppohdem::reference::dem::ReferenceEngine;
+using ppohdem::dem::reference::ReferenceEngine;
 
 constexpr double kR = 0.5e-3;  // particle radius [m] (d = 1 mm, the standard scene)
 

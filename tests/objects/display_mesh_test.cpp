@@ -12,7 +12,7 @@
 
 #include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 #include "test_paths.hpp"
 
 namespace ppohdem::dem::test {
@@ -83,7 +83,7 @@ TEST(ObjectDisplayMesh, VtkVerticesArePoseAppliedToTheMeshAndPovHasOneMeshPerObj
          "[[object]]\nmesh = \"box.stl\"\ncells = [4, 4, 4]\n"
          "[output]\ndir = \"out\"\nevery = 5\nformats = [\"pov\", \"vtk\"]\nprogress = false\n";
   const Scene scene = read_scene(dir / "scene.toml");
-  ppohdem::reference::dem::ReferenceEngine engine(scene.setup);
+  ppohdem::dem::reference::ReferenceEngine engine(scene.setup);
   std::ostringstream log;
   run_scene(engine, scene, "test", log);
 
@@ -130,7 +130,7 @@ TEST(ObjectDisplayMesh, PovTriangleIsWrittenXZY) {
          "[[object]]\nmesh = \"tri.stl\"\ncells = [2, 2, 2]\nmargin = 0.5\n"
          "[output]\ndir = \"out\"\nevery = 1\nformats = [\"pov\"]\nprogress = false\n";
   const Scene scene = read_scene(dir / "scene.toml");
-  ppohdem::reference::dem::ReferenceEngine engine(scene.setup);
+  ppohdem::dem::reference::ReferenceEngine engine(scene.setup);
   std::ostringstream log;
   run_scene(engine, scene, "test", log);
   std::ifstream pov(dir / "out" / "frame_000001.pov");

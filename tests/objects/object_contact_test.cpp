@@ -15,7 +15,7 @@
 namespace ppohdem::dem::test {
 namespace {
 
-using ppohdem::reference::dem::ReferenceEngine;
+using ppohdem::dem::reference::ReferenceEngine;
 
 constexpr double kRadius = 0.5e-3;  // m, particle radius (1 mm spheres of DESIGN.md)
 constexpr double kSpeed = 0.1;      // m/s, approach speed

@@ -12,7 +12,7 @@
 #include "ppohdem/error.hpp"
 #include "ppohdem/grid/trilinear.hpp"
 #include "ppohdem/io/vtk_structured_points.hpp"
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 #include "test_paths.hpp"
 
 namespace ppohdem::dem::test {
@@ -64,7 +64,7 @@ TEST(SceneObject, RestingParticleLoadsThePlateWithItsWeight) {
   const Scene scene = read_scene(dir / "scene.toml");
   ASSERT_EQ(scene.objects.size(), 1u);
   EXPECT_EQ(scene.objects[0].boundary_index, 0u);
-  ppohdem::reference::dem::ReferenceEngine engine(scene.setup);
+  ppohdem::dem::reference::ReferenceEngine engine(scene.setup);
   std::ostringstream log;
   run_scene(engine, scene, "test", log);
   std::ifstream in(dir / "out" / "objects.csv");

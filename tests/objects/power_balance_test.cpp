@@ -20,7 +20,7 @@
 namespace ppohdem::dem::test {
 namespace {
 
-using ppohdem::reference::dem::ReferenceEngine;
+using ppohdem::dem::reference::ReferenceEngine;
 
 constexpr double kRadius = 0.5e-3;  // m
 constexpr double kG = 9.81;         // m/s^2

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <limits>
 
-#include "ppohdem/reference/sdf/closest_point_triangle.hpp"
+#include "ppohdem/sdf/reference/closest_point_triangle.hpp"
 
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 
 namespace {
 

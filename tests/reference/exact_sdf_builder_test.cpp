@@ -9,8 +9,8 @@
 
 #include "analytic_sdf.hpp"
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/sdf/builders.hpp"
-#include "ppohdem/reference/sdf/exact_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
+#include "ppohdem/sdf/reference/exact_sdf_builder.hpp"
 #include "test_meshes.hpp"
 
 using ppohdem::GridSpec;
@@ -18,7 +18,7 @@ using ppohdem::ScalarField;
 using ppohdem::SdfReport;
 using ppohdem::TriangleMesh;
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 using namespace ppohdem::test;
 
 namespace {

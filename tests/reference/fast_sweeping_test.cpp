@@ -6,12 +6,12 @@
 #include <cmath>
 #include <limits>
 
-#include "ppohdem/reference/sdf/fast_sweeping.hpp"
+#include "ppohdem/sdf/reference/fast_sweeping.hpp"
 
 using ppohdem::GridSpec;
 using ppohdem::ScalarField;
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();

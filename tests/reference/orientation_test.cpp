@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "ppohdem/reference/sdf/orientation.hpp"
+#include "ppohdem/sdf/reference/orientation.hpp"
 
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 
 TEST(Orient2d, HandComputedSigns) {
   EXPECT_EQ(orient2d_sign({0, 0}, {1, 0}, {0, 1}), +1);   // left of the x axis

@@ -8,13 +8,13 @@
 #include <numbers>
 
 #include "analytic_sdf.hpp"
-#include "ppohdem/reference/sdf/ray_parity.hpp"
-#include "ppohdem/reference/sdf/winding_number.hpp"
+#include "ppohdem/sdf/reference/ray_parity.hpp"
+#include "ppohdem/sdf/reference/winding_number.hpp"
 #include "test_meshes.hpp"
 
 using ppohdem::GridSpec;
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 using namespace ppohdem::test;
 
 namespace {

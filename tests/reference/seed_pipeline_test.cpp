@@ -10,9 +10,9 @@
 
 #include "analytic_sdf.hpp"
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/sdf/exact_sdf_builder.hpp"
-#include "ppohdem/reference/sdf/fast_sweeping.hpp"
-#include "ppohdem/reference/sdf/seed_pipeline_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/exact_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/fast_sweeping.hpp"
+#include "ppohdem/sdf/reference/seed_pipeline_sdf_builder.hpp"
 #include "test_meshes.hpp"
 
 using ppohdem::GridSpec;
@@ -20,7 +20,7 @@ using ppohdem::ScalarField;
 using ppohdem::SdfReport;
 using ppohdem::TriangleMesh;
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 using namespace ppohdem::test;
 
 namespace {

@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/sdf/triangle_bvh.hpp"
+#include "ppohdem/sdf/reference/triangle_bvh.hpp"
 #include "test_meshes.hpp"
 
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 
 namespace {
 

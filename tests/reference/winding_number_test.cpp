@@ -4,12 +4,12 @@
 #include <cmath>
 #include <numbers>
 
-#include "ppohdem/reference/sdf/mesh_closure.hpp"
-#include "ppohdem/reference/sdf/winding_number.hpp"
+#include "ppohdem/sdf/reference/mesh_closure.hpp"
+#include "ppohdem/sdf/reference/winding_number.hpp"
 #include "test_meshes.hpp"
 
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 using namespace ppohdem::test;
 
 TEST(SolidAngle, OctantTriangleIsAnEighthOfTheSphere) {

@@ -18,15 +18,15 @@
 #include <random>
 
 #include "ppohdem/mesh/stl_io.hpp"
-#include "ppohdem/reference/sdf/winding_number.hpp"
-#include "ppohdem/reference/sdf/winding_number_tree.hpp"
+#include "ppohdem/sdf/reference/winding_number.hpp"
+#include "ppohdem/sdf/reference/winding_number_tree.hpp"
 #include "test_meshes.hpp"
 #include "test_paths.hpp"
 
 using ppohdem::Triangle;
 using ppohdem::TriangleMesh;
 using ppohdem::Vec3;
-using namespace ppohdem::reference;
+using namespace ppohdem::sdf::reference;
 using namespace ppohdem::test;
 
 namespace {

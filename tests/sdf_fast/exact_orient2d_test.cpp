@@ -5,10 +5,10 @@
 
 #include <cmath>
 
-#include "ppohdem/reference/sdf/orientation.hpp"
+#include "ppohdem/sdf/reference/orientation.hpp"
 #include "ppohdem/sdf/fast/exact_orient2d.hpp"
 
-namespace ppohdem {
+namespace ppohdem::sdf {
 namespace {
 
 int rational_sign(double ax, double ay, double bx, double by, double px, double py) {
@@ -43,4 +43,4 @@ RC_GTEST_PROP(FastOrient2d, ExpansionSignEqualsRationalSign, ()) {
 }
 
 }  // namespace
-}  // namespace ppohdem
+}  // namespace ppohdem::sdf

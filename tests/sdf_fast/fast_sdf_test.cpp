@@ -11,7 +11,7 @@
 #include "../reference/test_meshes.hpp"
 #include "ppohdem/error.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
-#include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 #include "ppohdem/sdf/field_metrics.hpp"
 #include "ppohdem/validation/cgal_signed_distance.hpp"
@@ -27,9 +27,9 @@ GridSpec grid_around(const TriangleMesh& mesh, int n, double margin = 0.1) {
 }
 
 ScalarField fast_field(const TriangleMesh& mesh, const GridSpec& grid, int threads = 2) {
-  FastSdfOptions options;
+  sdf::fast::FastSdfOptions options;
   options.threads = threads;
-  return FastSdfBuilder(options).build(mesh, grid);
+  return sdf::fast::FastSdfBuilder(options).build(mesh, grid);
 }
 
 bool bitwise_equal(const std::vector<double>& a, const std::vector<double>& b) {
@@ -53,7 +53,7 @@ void expect_matches_cgal(const TriangleMesh& mesh, const GridSpec& grid, double 
 
 void expect_matches_reference(const TriangleMesh& mesh, const GridSpec& grid, double tol_h = kExactTolH) {
   const ScalarField fast = fast_field(mesh, grid);
-  const ScalarField reference = reference::make_reference_sdf_builder("exact")->build(mesh, grid);
+  const ScalarField reference = sdf::reference::make_reference_sdf_builder("exact")->build(mesh, grid);
   // Sign tolerance 0: every node the reference does not put exactly on the surface must agree.
   const FieldComparison c = compare_fields(fast, reference, 2.0, 0.0);
   EXPECT_LE(c.all.max_error_h, tol_h);
@@ -113,7 +113,7 @@ TEST(FastSdf, OpenMeshSignAgreesWithReferenceWindingNumber) {
   const GridSpec grid = GridSpec::spanning(Vec3(-0.45, -0.45, -0.45), Vec3(1.45, 1.45, 1.45), {11, 11, 11});
   expect_matches_reference(open, grid);
   SdfReport report;
-  (void)FastSdfBuilder().build(open, grid, &report);
+  (void)sdf::fast::FastSdfBuilder().build(open, grid, &report);
   ASSERT_FALSE(report.warnings.empty());
   EXPECT_NE(report.warnings[0].find("winding number"), std::string::npos);
 }
@@ -139,9 +139,9 @@ TEST(FastSdf, SlabsConcatenateToTheWholeFieldBitwise) {
   std::vector<double> pieces(grid.node_count());
   std::size_t offset = 0;
   for (int r = 0; r < 3; ++r) {  // 3 uneven slabs (15 = 5 + 5 + 5 planes, then shifted by one)
-    const SlabRange slab = slab_of_rank(grid.nodes[2], r, 3);
+    const sdf::fast::SlabRange slab = sdf::fast::slab_of_rank(grid.nodes[2], r, 3);
     const std::size_t count = slab.node_count(grid);
-    FastSdfBuilder().build_slab(mesh, grid, slab, std::span<double>(pieces.data() + offset, count));
+    sdf::fast::FastSdfBuilder().build_slab(mesh, grid, slab, std::span<double>(pieces.data() + offset, count));
     offset += count;
   }
   EXPECT_EQ(offset, grid.node_count());
@@ -153,7 +153,7 @@ TEST(FastSdf, FloatStorageIsTheDoubleFieldRounded) {
   const GridSpec grid = grid_around(mesh, 10);
   const ScalarField dbl = fast_field(mesh, grid);
   std::vector<float> flt(grid.node_count());
-  FastSdfBuilder().build_slab(mesh, grid, {0, grid.nodes[2]}, std::span<float>(flt));
+  sdf::fast::FastSdfBuilder().build_slab(mesh, grid, {0, grid.nodes[2]}, std::span<float>(flt));
   for (std::size_t n = 0; n < flt.size(); ++n) ASSERT_EQ(flt[n], static_cast<float>(dbl.values[n])) << n;
 }
 
@@ -173,25 +173,25 @@ TEST(FastSdf, SharedCandidateSchemeGivesTheSameFieldBitwise) {
     SCOPED_TRACE(name);
     const TriangleMesh mesh = fixture_mesh(name);
     const GridSpec grid = grid_around(mesh, 26, 0.3);
-    FastSdfOptions shared;
+    sdf::fast::FastSdfOptions shared;
     shared.shared_candidates = true;
-    EXPECT_TRUE(bitwise_equal(fast_field(mesh, grid).values, FastSdfBuilder(shared).build(mesh, grid).values));
+    EXPECT_TRUE(bitwise_equal(fast_field(mesh, grid).values, sdf::fast::FastSdfBuilder(shared).build(mesh, grid).values));
   }
 }
 
 // ---- band mode: exact within W h, closest-triangle transfer beyond, exact sign everywhere ----
 
 ScalarField band_field(const TriangleMesh& mesh, const GridSpec& grid, double band, int threads = 2,
-                       FastSdfCounters* counters = nullptr) {
-  FastSdfOptions options;
+                       sdf::fast::FastSdfCounters* counters = nullptr) {
+  sdf::fast::FastSdfOptions options;
   options.threads = threads;
   options.band_cells = band;
   options.counters = counters;
-  return FastSdfBuilder(options).build(mesh, grid);
+  return sdf::fast::FastSdfBuilder(options).build(mesh, grid);
 }
 
 void expect_band_mode_correct(const TriangleMesh& mesh, const GridSpec& grid, double band) {
-  FastSdfCounters counters;
+  sdf::fast::FastSdfCounters counters;
   const ScalarField phi = band_field(mesh, grid, band, 2, &counters);
   const ScalarField oracle = validation::cgal_signed_distance(mesh, grid, 1);
   // The far path must really be taken, or this test would only repeat the exact ones.
@@ -236,7 +236,7 @@ TEST(FastSdfBand, AroundASphereTheTransferStaysWithinItsProvenBound) {
   // r' = 1.5 sqrt(3) h the 4^3 box's). Within the band it is exact.
   const TriangleMesh sphere = test::icosphere(Vec3::Zero(), 1.0, 3);
   const GridSpec grid = GridSpec::spanning(Vec3::Constant(-4.0), Vec3::Constant(4.0), {41, 41, 41});
-  FastSdfCounters counters;
+  sdf::fast::FastSdfCounters counters;
   const double band = 2.0;
   const ScalarField phi = band_field(sphere, grid, band, 2, &counters);
   EXPECT_GT(counters.transferred_nodes, grid.node_count() / 2);
@@ -277,14 +277,14 @@ TEST(FastSdfBand, BitwiseIdenticalForOneAndTwoThreadsAndForSlabs) {
   const ScalarField one = band_field(mesh, grid, 1.0, 1);
   EXPECT_TRUE(bitwise_equal(one.values, band_field(mesh, grid, 1.0, 2).values));
   // Uneven slabs whose boundaries cut through bricks (37 planes: 12 + 12 + 13).
-  FastSdfOptions options;
+  sdf::fast::FastSdfOptions options;
   options.band_cells = 1.0;
   std::vector<double> pieces(grid.node_count());
   std::size_t offset = 0;
   for (int r = 0; r < 3; ++r) {
-    const SlabRange slab = slab_of_rank(grid.nodes[2], r, 3);
+    const sdf::fast::SlabRange slab = sdf::fast::slab_of_rank(grid.nodes[2], r, 3);
     const std::size_t count = slab.node_count(grid);
-    FastSdfBuilder(options).build_slab(mesh, grid, slab, std::span<double>(pieces.data() + offset, count));
+    sdf::fast::FastSdfBuilder(options).build_slab(mesh, grid, slab, std::span<double>(pieces.data() + offset, count));
     offset += count;
   }
   EXPECT_TRUE(bitwise_equal(one.values, pieces));
@@ -302,7 +302,7 @@ TEST(FastSdfBand, BandNodesEqualTheExactFieldBitwise) {
     const TriangleMesh mesh = fixture_mesh(name);
     const GridSpec grid = grid_around(mesh, 40, 0.3);
     const double band = 2.0;
-    FastSdfCounters counters;
+    sdf::fast::FastSdfCounters counters;
     const ScalarField exact = fast_field(mesh, grid);
     const ScalarField banded = band_field(mesh, grid, band, 2, &counters);
     EXPECT_GT(counters.transferred_nodes, grid.node_count() / 4);
@@ -325,10 +325,10 @@ TEST(FastSdfBand, BandNodesEqualTheExactFieldBitwise) {
 }
 
 TEST(FastSdfBand, RejectsANegativeBand) {
-  FastSdfOptions options;
+  sdf::fast::FastSdfOptions options;
   options.band_cells = -1.0;
   const GridSpec grid = GridSpec::spanning(Vec3::Zero(), Vec3::Ones(), {3, 3, 3});
-  EXPECT_THROW((void)FastSdfBuilder(options).build(test::box_mesh(Vec3::Zero(), Vec3::Ones()), grid), InputError);
+  EXPECT_THROW((void)sdf::fast::FastSdfBuilder(options).build(test::box_mesh(Vec3::Zero(), Vec3::Ones()), grid), InputError);
 }
 
 TEST(FastSdf, SlabsOfRanksCoverTheGridInOrder) {
@@ -336,7 +336,7 @@ TEST(FastSdf, SlabsOfRanksCoverTheGridInOrder) {
     for (int ranks : {1, 2, 3, 4, 9}) {
       int next = 0;
       for (int r = 0; r < ranks; ++r) {
-        const SlabRange s = slab_of_rank(nz, r, ranks);
+        const sdf::fast::SlabRange s = sdf::fast::slab_of_rank(nz, r, ranks);
         EXPECT_EQ(s.k_begin, next);
         EXPECT_LE(s.k_end - s.k_begin, nz / ranks + 1);
         next = s.k_end;
@@ -348,9 +348,9 @@ TEST(FastSdf, SlabsOfRanksCoverTheGridInOrder) {
 
 TEST(FastSdf, RejectsEmptyMeshAndWrongOutputSize) {
   const GridSpec grid = GridSpec::spanning(Vec3::Zero(), Vec3::Ones(), {3, 3, 3});
-  EXPECT_THROW((void)FastSdfBuilder().build(TriangleMesh{}, grid), InputError);
+  EXPECT_THROW((void)sdf::fast::FastSdfBuilder().build(TriangleMesh{}, grid), InputError);
   std::vector<double> small(5);
-  EXPECT_THROW(FastSdfBuilder().build_slab(test::box_mesh(Vec3::Zero(), Vec3::Ones()), grid, {0, 3},
+  EXPECT_THROW(sdf::fast::FastSdfBuilder().build_slab(test::box_mesh(Vec3::Zero(), Vec3::Ones()), grid, {0, 3},
                                            std::span<double>(small)),
                InputError);
 }

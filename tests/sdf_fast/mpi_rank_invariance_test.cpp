@@ -20,12 +20,12 @@ int main(int argc, char** argv) {
     // 21 z-planes: uneven slabs at 2 and 4 ranks, whose boundaries cut through 8^3 bricks.
     const GridSpec grid = GridSpec::spanning(box.min - 0.3 * box.extent(), box.max + 0.3 * box.extent(), {22, 19, 21});
     for (const double band : {0.0, 1.0}) {  // exact everywhere, and band mode (global bricks)
-      FastSdfOptions options;
+      sdf::fast::FastSdfOptions options;
       options.threads = 1;
       options.band_cells = band;
-      const FastSdfBuilder builder(options);
-      const ScalarField distributed = build_sdf_distributed(builder, comm, mesh, grid);
-      const std::vector<float> distributed_float = build_sdf_distributed_float(builder, comm, mesh, grid);
+      const sdf::fast::FastSdfBuilder builder(options);
+      const ScalarField distributed = sdf::fast::build_sdf_distributed(builder, comm, mesh, grid);
+      const std::vector<float> distributed_float = sdf::fast::build_sdf_distributed_float(builder, comm, mesh, grid);
       if (comm.rank() == 0) {
         const ScalarField serial = builder.build(mesh, grid);
         const bool same = distributed.values.size() == serial.values.size() &&

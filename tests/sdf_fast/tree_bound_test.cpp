@@ -12,11 +12,11 @@
 #include <random>
 
 #include "ppohdem/mesh/stl_io.hpp"
-#include "ppohdem/reference/sdf/closest_point_triangle.hpp"
+#include "ppohdem/sdf/reference/closest_point_triangle.hpp"
 #include "ppohdem/sdf/fast/nearest_triangle.hpp"
 #include "test_paths.hpp"
 
-namespace ppohdem {
+namespace ppohdem::sdf {
 namespace {
 
 /// Triangles [first, end) of the subtree rooted at `id` (depth-first order: contiguous).
@@ -107,7 +107,7 @@ void expect_bound_below_brute_force(const char* name, double offset, double min_
       double brute = std::numeric_limits<double>::infinity();
       for (std::uint32_t s = first; s < end; ++s) {
         const auto& t = triangles[s];
-        brute = std::min(brute, reference::squared_distance_to_triangle(p, t.a, t.b, t.c));
+        brute = std::min(brute, sdf::reference::squared_distance_to_triangle(p, t.a, t.b, t.c));
       }
       const double bound = fast::TriangleTree::lower_bound_squared(tree.oriented_nodes()[id], p);
       ASSERT_LE(std::sqrt(bound), std::sqrt(brute) + tree.slack())
@@ -150,4 +150,4 @@ TEST(FastSdfTree, NodeLowerBoundHoldsForAMeshOffsetByAMillion) {
 }
 
 }  // namespace
-}  // namespace ppohdem
+}  // namespace ppohdem::sdf

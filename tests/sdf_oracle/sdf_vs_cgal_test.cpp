@@ -19,7 +19,7 @@
 
 #include "ppohdem/mesh/mesh_stats.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
-#include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
 #include "ppohdem/sdf/field_metrics.hpp"
 #include "ppohdem/validation/cgal_signed_distance.hpp"
 #include "test_paths.hpp"
@@ -54,7 +54,7 @@ TEST_P(ExactMatchesCgal, ToRoundOffWithCorrectSignsAndLipschitz) {
   validation::OracleReport oracle_report;
   const ScalarField oracle = validation::cgal_signed_distance(mesh, grid, 2, &oracle_report);
   ASSERT_TRUE(oracle_report.sign_valid) << GetParam().mesh << " should be closed";
-  const ScalarField exact = reference::make_reference_sdf_builder("exact")->build(mesh, grid);
+  const ScalarField exact = sdf::reference::make_reference_sdf_builder("exact")->build(mesh, grid);
 
   const double h = grid.min_spacing();
   double worst = 0.0;
@@ -87,7 +87,7 @@ TEST(ExactMatchesCgal, OpenBunnyDistanceMagnitudesAgree) {
   const ScalarField oracle = validation::cgal_signed_distance(mesh, grid, 2, &oracle_report);
   EXPECT_FALSE(oracle_report.sign_valid);
   SdfReport report;
-  const ScalarField exact = reference::make_reference_sdf_builder("exact")->build(mesh, grid, &report);
+  const ScalarField exact = sdf::reference::make_reference_sdf_builder("exact")->build(mesh, grid, &report);
   const double h = grid.min_spacing();
   double worst = 0.0;
   for (std::size_t n = 0; n < oracle.values.size(); ++n) {
@@ -104,7 +104,7 @@ TEST(SeedMethodAgainstCgal, DragonErrorWithinMeasuredBound) {
   const TriangleMesh mesh = read_stl(test::fixture("meshes/dragon_100k.stl"));
   const GridSpec grid = grid_around(mesh, 32);
   const ScalarField oracle = validation::cgal_signed_distance(mesh, grid, 2);
-  const ScalarField seed = reference::make_reference_sdf_builder("seed")->build(mesh, grid);
+  const ScalarField seed = sdf::reference::make_reference_sdf_builder("seed")->build(mesh, grid);
   const FieldComparison cmp = compare_fields(seed, oracle, 2.0, 1e-9 / grid.min_spacing());
   EXPECT_EQ(cmp.sign_mismatches, 0u);
   EXPECT_LT(cmp.band.max_error_h, 1e-12);  // the band is computed exactly

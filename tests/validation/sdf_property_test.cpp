@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "ppohdem/mesh/mesh_stats.hpp"
-#include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 #include "ppohdem/sdf/field_metrics.hpp"
 #include "ppohdem/validation/cgal_signed_distance.hpp"
@@ -50,10 +50,10 @@ GridSpec grid_around(const TriangleMesh& mesh, int n) {
 
 std::vector<std::unique_ptr<SdfBuilder>> exact_builders() {
   std::vector<std::unique_ptr<SdfBuilder>> b;
-  b.push_back(reference::make_reference_sdf_builder("exact"));
-  FastSdfOptions fast;
+  b.push_back(sdf::reference::make_reference_sdf_builder("exact"));
+  sdf::fast::FastSdfOptions fast;
   fast.threads = 1;
-  b.push_back(std::make_unique<FastSdfBuilder>(fast));
+  b.push_back(std::make_unique<sdf::fast::FastSdfBuilder>(fast));
   return b;
 }
 
@@ -192,7 +192,7 @@ RC_GTEST_PROP(SdfProperties, SeedBuilderIsLipschitzAlongGridAxesOnRandomConvexHu
     RC_DISCARD("coplanar point set");
   }
   const GridSpec grid = grid_around(mesh, 12);
-  const ScalarField field = reference::make_reference_sdf_builder("seed")->build(mesh, grid);
+  const ScalarField field = sdf::reference::make_reference_sdf_builder("seed")->build(mesh, grid);
   // The seed method (exact band + Godunov fast-sweeping updates) is an approximation; a
   // Godunov update never makes an axis neighbour difference exceed h, so the field is
   // 1-Lipschitz along the grid axes (docs/sdf-accuracy.md). It is NOT along diagonals: the

@@ -21,7 +21,7 @@
 
 #include "bench_grid.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
-#include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 #include "ppohdem/sdf/field_metrics.hpp"
 #include "ppohdem/validation/cgal_signed_distance.hpp"
@@ -57,29 +57,29 @@ int run(const std::map<std::string, std::string>& args) {
   const int threads = std::stoi(get(args, "threads", "2"));
   const bool single = get(args, "precision", "double") == "float";
   const double band = std::stod(get(args, "band", "0"));
-  FastSdfCounters counters;
+  sdf::fast::FastSdfCounters counters;
   std::vector<double> values;
   std::size_t field_bytes = grid.node_count() * sizeof(double);
   const auto t0 = std::chrono::steady_clock::now();
   if (method == "fast") {
-    FastSdfOptions options;
+    sdf::fast::FastSdfOptions options;
     options.threads = threads;
     options.band_cells = band;
     options.shared_candidates = get(args, "shared", "0") == "1";
     options.counters = &counters;
-    const FastSdfBuilder builder(options);
+    const sdf::fast::FastSdfBuilder builder(options);
     const SerialComm comm;
     if (single) {
-      const std::vector<float> f = build_sdf_distributed_float(builder, comm, mesh, grid);
+      const std::vector<float> f = sdf::fast::build_sdf_distributed_float(builder, comm, mesh, grid);
       field_bytes = f.size() * sizeof(float);
       values.assign(f.begin(), f.end());  // after the clock stops would be fairer; see below
     } else {
-      values = build_sdf_distributed(builder, comm, mesh, grid).values;
+      values = sdf::fast::build_sdf_distributed(builder, comm, mesh, grid).values;
     }
   } else if (method == "cgal") {
     values = validation::cgal_signed_distance(mesh, grid, threads).values;
   } else {
-    values = reference::make_reference_sdf_builder(method)->build(mesh, grid).values;
+    values = sdf::reference::make_reference_sdf_builder(method)->build(mesh, grid).values;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // Peak memory before writing the output (the float run's double copy for the file is made

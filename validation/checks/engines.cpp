@@ -5,13 +5,13 @@
 #include <stdexcept>
 
 #include "ppohdem/dem/fast/fast_engine.hpp"
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 
 namespace ppohdem::validation {
 namespace {
 const std::map<std::string, dem::EngineFactory>& table() {
   static const std::map<std::string, dem::EngineFactory> engines{
-      {"reference", &reference::dem::ReferenceEngine::make},
+      {"reference", &dem::reference::ReferenceEngine::make},
       {"fast", &dem::fast::FastEngine::make},  // the optimized engine (core/dem/fast)
       // add further engines here (same names as `ppohdem simulate --engine`)
   };

@@ -20,7 +20,7 @@
 #include "ppohdem/mesh/mesh_stats.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/provenance.hpp"
-#include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
 #include "ppohdem/sdf/field_metrics.hpp"
 #include "ppohdem/validation/cgal_signed_distance.hpp"
 
@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
         oracle_row.signed_oracle = oracle_report.sign_valid;
         print_row(oracle_row);
         for (const auto& method : methods) {
-          auto builder = reference::make_reference_sdf_builder(method);
+          auto builder = sdf::reference::make_reference_sdf_builder(method);
           SdfReport report;
           const auto t0 = Clock::now();
           ScalarField field = builder->build(mesh, grid, &report);

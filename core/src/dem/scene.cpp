@@ -496,7 +496,7 @@ class SceneParser {
       const Vec3 pad = Vec3::Constant(margin);
       const Index3 nodes = {(*cells)[0] + 1, (*cells)[1] + 1, (*cells)[2] + 1};
       const GridSpec grid = GridSpec::spanning(box.min - pad, box.max + pad, nodes);
-      field = FastSdfBuilder().build(mesh, grid);  // exact distance (fast_sdf_builder.hpp)
+      field = sdf::fast::FastSdfBuilder().build(mesh, grid);  // exact distance (fast_sdf_builder.hpp)
       display_mesh = mesh;
     }
     RigidMotion motion;

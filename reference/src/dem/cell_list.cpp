@@ -1,11 +1,11 @@
-#include "ppohdem/reference/dem/cell_list.hpp"
+#include "ppohdem/dem/reference/cell_list.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "ppohdem/dem/cell_grid.hpp"
 
-namespace ppohdem::reference::dem {
+namespace ppohdem::dem::reference {
 namespace {
 
 bool touching(const ppohdem::dem::Particle& a, const ppohdem::dem::Particle& b) {
@@ -89,4 +89,4 @@ std::vector<std::pair<std::size_t, std::size_t>> touching_pairs_brute_force(
   return pairs;
 }
 
-}  // namespace ppohdem::reference::dem
+}  // namespace ppohdem::dem::reference

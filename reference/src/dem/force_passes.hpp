@@ -16,10 +16,10 @@
 #include "ppohdem/dem/material.hpp"
 #include "ppohdem/dem/pair_laws.hpp"
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/dem/cell_list.hpp"
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/cell_list.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 
-namespace ppohdem::reference::dem {
+namespace ppohdem::dem::reference {
 
 using ppohdem::dem::ContactForce;
 using ppohdem::dem::ContactKinematics;
@@ -279,4 +279,4 @@ class BoundaryForces final : public ForcePass {
   std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> history_;  // seed: contact_list_wall
 };
 
-}  // namespace ppohdem::reference::dem
+}  // namespace ppohdem::dem::reference

@@ -1,4 +1,4 @@
-#include "ppohdem/reference/dem/reference_engine.hpp"
+#include "ppohdem/dem/reference/reference_engine.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 #include "force_passes.hpp"
 #include "ppohdem/dem/ordered_sum.hpp"
 
-namespace ppohdem::reference::dem {
+namespace ppohdem::dem::reference {
 
 namespace {
 
@@ -188,4 +188,4 @@ void ReferenceEngine::restore_state(const EngineState& state) {
   deepest_ = ppohdem::dem::LargestOverlap{};  // of the evaluation before the checkpoint: not saved
 }
 
-}  // namespace ppohdem::reference::dem
+}  // namespace ppohdem::dem::reference

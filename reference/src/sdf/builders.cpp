@@ -1,14 +1,14 @@
 /// \file builders.cpp
 /// Method name -> reference builder.
-#include "ppohdem/reference/sdf/builders.hpp"
+#include "ppohdem/sdf/reference/builders.hpp"
 
 #include <string>
 
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/sdf/exact_sdf_builder.hpp"
-#include "ppohdem/reference/sdf/seed_pipeline_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/exact_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/seed_pipeline_sdf_builder.hpp"
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 std::unique_ptr<SdfBuilder> make_reference_sdf_builder(std::string_view method) {
   if (method == "exact") return std::make_unique<ExactSdfBuilder>();
@@ -16,4 +16,4 @@ std::unique_ptr<SdfBuilder> make_reference_sdf_builder(std::string_view method) 
   throw InputError("unknown SDF method '" + std::string(method) + "': expected one of exact, seed");
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

@@ -1,12 +1,12 @@
 /// \file closest_point_triangle.cpp
 /// Ericson, Real-Time Collision Detection (2005), section 5.1.5, with an edge fallback for
 /// degenerate triangles. See the header for the formulas.
-#include "ppohdem/reference/sdf/closest_point_triangle.hpp"
+#include "ppohdem/sdf/reference/closest_point_triangle.hpp"
 
 #include <algorithm>
 #include <limits>
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 Vec3 closest_point_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   // Minimise |a + t (b - a) - p|^2 over t in [0, 1]: t = (p - a).(b - a) / |b - a|^2, clamped.
@@ -111,4 +111,4 @@ double squared_distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
   return (closest_point_on_triangle(p, a, b, c) - p).squaredNorm();
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

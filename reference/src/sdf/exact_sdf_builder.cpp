@@ -1,13 +1,13 @@
 /// \file exact_sdf_builder.cpp
 /// phi = sign x distance to the nearest triangle, at every node. See exact_sdf_builder.hpp.
-#include "ppohdem/reference/sdf/exact_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/exact_sdf_builder.hpp"
 
 #include <cmath>
 
-#include "ppohdem/reference/sdf/inside_classification.hpp"
-#include "ppohdem/reference/sdf/triangle_bvh.hpp"
+#include "ppohdem/sdf/reference/inside_classification.hpp"
+#include "ppohdem/sdf/reference/triangle_bvh.hpp"
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 double negative_fraction(const ScalarField& phi) {
   if (phi.values.empty()) return 0.0;
@@ -39,4 +39,4 @@ ScalarField ExactSdfBuilder::build(const TriangleMesh& mesh, const GridSpec& gri
   return phi;
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

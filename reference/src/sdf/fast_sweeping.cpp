@@ -1,13 +1,13 @@
 /// \file fast_sweeping.cpp
 /// Zhao (2005) fast sweeping with the anisotropic Godunov update. See fast_sweeping.hpp.
-#include "ppohdem/reference/sdf/fast_sweeping.hpp"
+#include "ppohdem/sdf/reference/fast_sweeping.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 namespace {
 
@@ -99,4 +99,4 @@ int fast_sweep(ScalarField& distance, const std::vector<bool>& frozen) {
   return sweeps;
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

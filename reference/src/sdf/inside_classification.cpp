@@ -1,15 +1,15 @@
 /// \file inside_classification.cpp
 /// Chooses ray parity or the winding number from the mesh's closure. See the header.
-#include "ppohdem/reference/sdf/inside_classification.hpp"
+#include "ppohdem/sdf/reference/inside_classification.hpp"
 
 #include <cmath>
 
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/sdf/mesh_closure.hpp"
-#include "ppohdem/reference/sdf/ray_parity.hpp"
-#include "ppohdem/reference/sdf/winding_number.hpp"
+#include "ppohdem/sdf/reference/mesh_closure.hpp"
+#include "ppohdem/sdf/reference/ray_parity.hpp"
+#include "ppohdem/sdf/reference/winding_number.hpp"
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 InsideClassification classify_inside_nodes(const TriangleMesh& mesh, const GridSpec& grid) {
   const MeshClosure closure = check_mesh_closure(mesh);
@@ -53,4 +53,4 @@ void check_sdf_inputs(const TriangleMesh& mesh, const GridSpec& grid, const std:
   }
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

@@ -1,12 +1,12 @@
 /// \file mesh_closure.cpp
 /// Weld bit-identical vertices, count the uses of every edge. See mesh_closure.hpp.
-#include "ppohdem/reference/sdf/mesh_closure.hpp"
+#include "ppohdem/sdf/reference/mesh_closure.hpp"
 
 #include <array>
 #include <map>
 #include <utility>
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 namespace {
 
@@ -50,4 +50,4 @@ MeshClosure check_mesh_closure(const TriangleMesh& mesh) {
   return result;
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

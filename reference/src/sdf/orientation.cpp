@@ -1,13 +1,13 @@
 /// \file orientation.cpp
 /// Filtered exact orient2d (Shewchuk 1997) and its simulation-of-simplicity perturbation
 /// (Edelsbrunner & Muecke 1990). See orientation.hpp for the formulas.
-#include "ppohdem/reference/sdf/orientation.hpp"
+#include "ppohdem/sdf/reference/orientation.hpp"
 
 #include <boost/multiprecision/cpp_int.hpp>
 #include <cmath>
 #include <limits>
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 namespace {
 
@@ -46,4 +46,4 @@ int orient2d_sign_perturbed(const Vec2& a, const Vec2& b, const Vec2& p) {
   return 0;  // a == b: a degenerate edge, no line to be on either side of
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

@@ -1,12 +1,12 @@
 /// \file ray_parity.cpp
 /// Column ray parity with simulation of simplicity. See ray_parity.hpp for the method; the
 /// original counterparts are ppohDEM_v_makecrosslist and ppohDEM_v_makegridout.
-#include "ppohdem/reference/sdf/ray_parity.hpp"
+#include "ppohdem/sdf/reference/ray_parity.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 namespace {
 
@@ -107,4 +107,4 @@ std::vector<bool> inside_by_column_parity(const TriangleMesh& mesh, const GridSp
   return inside_by_column_parity(make_cross_list(mesh, grid), grid);
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

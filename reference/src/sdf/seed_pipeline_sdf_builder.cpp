@@ -1,19 +1,19 @@
 /// \file seed_pipeline_sdf_builder.cpp
 /// The original ppohDEM pipeline made correct: crosslist parity, exact band, fast sweeping.
 /// See seed_pipeline_sdf_builder.hpp and docs/sdf.md.
-#include "ppohdem/reference/sdf/seed_pipeline_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/seed_pipeline_sdf_builder.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/sdf/closest_point_triangle.hpp"
-#include "ppohdem/reference/sdf/exact_sdf_builder.hpp"
-#include "ppohdem/reference/sdf/fast_sweeping.hpp"
-#include "ppohdem/reference/sdf/triangle_bvh.hpp"
+#include "ppohdem/sdf/reference/closest_point_triangle.hpp"
+#include "ppohdem/sdf/reference/exact_sdf_builder.hpp"
+#include "ppohdem/sdf/reference/fast_sweeping.hpp"
+#include "ppohdem/sdf/reference/triangle_bvh.hpp"
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 namespace {
 
@@ -116,4 +116,4 @@ ScalarField SeedPipelineSdfBuilder::build(const TriangleMesh& mesh, const GridSp
   return run(mesh, grid, report).phi;
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

@@ -1,16 +1,16 @@
 /// \file triangle_bvh.cpp
 /// Median-split bounding-volume hierarchy and branch-and-bound nearest-triangle query.
 /// See triangle_bvh.hpp for the formulas.
-#include "ppohdem/reference/sdf/triangle_bvh.hpp"
+#include "ppohdem/sdf/reference/triangle_bvh.hpp"
 
 #include <algorithm>
 #include <limits>
 #include <numeric>
 
 #include "ppohdem/error.hpp"
-#include "ppohdem/reference/sdf/closest_point_triangle.hpp"
+#include "ppohdem/sdf/reference/closest_point_triangle.hpp"
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 double squared_distance_to_box(const Vec3& p, const BoundingBox& box) {
   const Vec3 below = (box.min - p).cwiseMax(0.0);
@@ -123,4 +123,4 @@ NearestTriangle nearest_triangle_brute_force(const TriangleMesh& mesh, const Vec
   return best;
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

@@ -2,14 +2,14 @@
 /// Generalized winding number (Jacobson et al. 2013) with Van Oosterom & Strackee's (1983) solid
 /// angle. See winding_number.hpp for the formulas; the grid classification uses the hierarchical
 /// evaluation of winding_number_tree.hpp.
-#include "ppohdem/reference/sdf/winding_number.hpp"
+#include "ppohdem/sdf/reference/winding_number.hpp"
 
 #include <cmath>
 #include <numbers>
 
-#include "ppohdem/reference/sdf/winding_number_tree.hpp"
+#include "ppohdem/sdf/reference/winding_number_tree.hpp"
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 double solid_angle(const Vec3& p, const Vec3& a_vertex, const Vec3& b_vertex, const Vec3& c_vertex) {
   const Vec3 a = a_vertex - p;
@@ -41,4 +41,4 @@ std::vector<bool> inside_by_winding_number(const TriangleMesh& mesh, const GridS
   return inside;
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

@@ -1,15 +1,15 @@
 /// \file winding_number_tree.cpp
 /// Hierarchical generalized winding number: node boundaries built bottom-up, closing caps for far
 /// nodes. See winding_number_tree.hpp for the formulas and the closing-cap argument.
-#include "ppohdem/reference/sdf/winding_number_tree.hpp"
+#include "ppohdem/sdf/reference/winding_number_tree.hpp"
 
 #include <map>
 #include <numbers>
 #include <utility>
 
-#include "ppohdem/reference/sdf/winding_number.hpp"
+#include "ppohdem/sdf/reference/winding_number.hpp"
 
-namespace ppohdem::reference {
+namespace ppohdem::sdf::reference {
 
 namespace {
 
@@ -124,4 +124,4 @@ void WindingNumberTree::sum_triangles(std::size_t n, const Vec3& p, double& tota
   terms += count;
 }
 
-}  // namespace ppohdem::reference
+}  // namespace ppohdem::sdf::reference

@@ -1,6 +1,6 @@
 #pragma once
 /// \file engine.hpp
-/// The DEM engine interface. The reference engine (ppohdem::reference::dem) and the later
+/// The DEM engine interface. The reference engine (ppohdem::dem::reference) and the later
 /// optimized engine implement it; the typed contract tests in tests/dem run against every
 /// implementation (STYLE.md habit 9).
 ///

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 namespace {
 
@@ -780,4 +780,4 @@ void BrickDistance::solve_box(const NodeBox& box, int depth, const Workspace::Ca
   });
 }
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast

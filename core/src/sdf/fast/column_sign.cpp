@@ -11,7 +11,7 @@
 
 #include "ppohdem/sdf/fast/exact_orient2d.hpp"
 
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 namespace {
 
@@ -321,4 +321,4 @@ std::size_t ColumnSign::memory_bytes() const {
          cone_.capacity() * sizeof(Triangle);
 }
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast

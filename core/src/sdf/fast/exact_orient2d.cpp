@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <limits>
 
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 namespace {
 
@@ -101,4 +101,4 @@ int orient2d_sign_perturbed(double ax, double ay, double bx, double by, double p
   return 0;
 }
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast

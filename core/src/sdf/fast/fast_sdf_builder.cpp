@@ -20,7 +20,7 @@
 #include <omp.h>
 #endif
 
-namespace ppohdem {
+namespace ppohdem::sdf::fast {
 
 namespace {
 
@@ -274,6 +274,10 @@ std::vector<float> build_sdf_distributed_float(const FastSdfBuilder& builder, co
                                                const TriangleMesh& mesh, const GridSpec& grid, SdfReport* report) {
   return build_distributed<float>(builder, comm, mesh, grid, report);
 }
+
+}  // namespace ppohdem::sdf::fast
+
+namespace ppohdem {
 
 std::size_t peak_resident_bytes() {
   rusage usage{};

@@ -15,7 +15,7 @@
 #define PPOHDEM_PACKET_AVX 1  // the AVX and AVX-512 packet traversals, chosen at run time
 #endif
 
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 namespace {
 
@@ -1104,4 +1104,4 @@ std::size_t TriangleTree::memory_bytes() const {
          triangles_.capacity() * sizeof(PreparedTriangle);
 }
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast

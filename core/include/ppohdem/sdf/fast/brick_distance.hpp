@@ -62,7 +62,7 @@
 #include "ppohdem/grid/grid_spec.hpp"
 #include "ppohdem/sdf/fast/nearest_triangle.hpp"
 
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 /// A block of nodes: i in [lo[0], hi[0]), j in [lo[1], hi[1]), k in [lo[2], hi[2]) (global indices).
 struct NodeBox {
@@ -164,4 +164,4 @@ class BrickDistance {
   bool shared_ = false;
 };
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast

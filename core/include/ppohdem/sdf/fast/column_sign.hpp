@@ -29,7 +29,7 @@
 #include "ppohdem/grid/grid_spec.hpp"
 #include "ppohdem/mesh/triangle_mesh.hpp"
 
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 /// Edge statistics after welding bit-identical vertices (0.0 == -0.0).
 struct EdgeCensus {
@@ -77,4 +77,4 @@ class ColumnSign {
   std::vector<Triangle> cone_;               ///< winding-number mode: the cone K
 };
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast

@@ -18,7 +18,7 @@
 /// perturbed predicate moves p to (p.x + e, p.y + e^2), e -> 0+, so
 ///   orient2d(a, b, p') = orient2d(a, b, p) - e (b.y - a.y) + e^2 (b.x - a.x),
 /// whose sign is that of the first non-zero coefficient (0 only if a == b).
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 /// Sign (-1, 0, +1) of orient2d(a, b, p), exact. Points as (x, y) pairs.
 int orient2d_sign(double ax, double ay, double bx, double by, double px, double py);
@@ -29,4 +29,4 @@ int orient2d_sign_expansion(double ax, double ay, double bx, double by, double p
 /// Sign of orient2d(a, b, p') with p' = (p.x + e, p.y + e^2): never 0 unless a == b.
 int orient2d_sign_perturbed(double ax, double ay, double bx, double by, double px, double py);
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast

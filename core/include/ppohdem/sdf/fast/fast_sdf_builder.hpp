@@ -2,7 +2,7 @@
 /// \file fast_sdf_builder.hpp
 /// The optimized SDF builder ("fast"): exact everywhere (or, in band mode, exact in a band and
 /// an upper bound by closest-triangle transfer outside), OpenMP over bricks of 8^3 nodes, MPI
-/// over z-slabs. Same contract and convention as reference::ExactSdfBuilder:
+/// over z-slabs. Same contract and convention as sdf::reference::ExactSdfBuilder:
 ///   phi(x) = s(x) min_t |x - closest_point(x, t)|   [m],  s = -1 inside, +1 outside.
 ///
 /// How (see docs/performance.md, SDF section):
@@ -26,7 +26,7 @@
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/sdf/signed_distance.hpp"
 
-namespace ppohdem {
+namespace ppohdem::sdf::fast {
 
 enum class FieldPrecision { float64, float32 };
 
@@ -102,7 +102,9 @@ std::vector<float> build_sdf_distributed_float(const FastSdfBuilder& builder, co
                                                const TriangleMesh& mesh, const GridSpec& grid,
                                                SdfReport* report = nullptr);
 
+}  // namespace ppohdem::sdf::fast
+
+namespace ppohdem {
 /// Peak resident memory of this process so far [bytes] (getrusage ru_maxrss; 0 if unknown).
 std::size_t peak_resident_bytes();
-
 }  // namespace ppohdem

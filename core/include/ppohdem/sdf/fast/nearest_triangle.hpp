@@ -64,7 +64,7 @@
 #include "ppohdem/geometry/vector.hpp"
 #include "ppohdem/mesh/triangle_mesh.hpp"
 
-namespace ppohdem::fast {
+namespace ppohdem::sdf::fast {
 
 /// A triangle ready for distance queries: vertex a, edges ab = b - a, ac = c - a (world units).
 struct PreparedTriangle {
@@ -183,4 +183,4 @@ class TriangleTree {
   double slack_ = 0.0;  ///< absolute distance slack of the pruning [m]
 };
 
-}  // namespace ppohdem::fast
+}  // namespace ppohdem::sdf::fast
