@@ -18,10 +18,18 @@ PACKAGES=(
   yade                               # YADE 2023.02a: `ppohdem validate --live` reruns the YADE
                                      # reference scenes (validation/yade; ~1 min to install here)
   python3-scipy                      # validation/peers/crosscheck.py (k-d tree)
+  gfortran                           # bindings/fortran: the original ppohDEM_util modules
+  pybind11-dev python3-pytest        # bindings/python: the `ppohdem` module and its tests
+  python3-nbconvert python3-ipykernel   # docs/tutorials: notebooks executed by ctest
+  clang libomp-14-dev libclang-rt-14-dev   # the Clang 14 build and the libFuzzer targets
 )
 # The other peer DEM codes only for the benchmark (ci/bench-dem.sh calls `install-deps.sh --peers`).
 if [ "${1:-}" = "--peers" ]; then
   PACKAGES+=(liggghts lammps)
+fi
+# The aarch64 cross build run under qemu-user (docs/portability.md).
+if [ "${1:-}" = "--cross" ]; then
+  PACKAGES+=(g++-aarch64-linux-gnu qemu-user)
 fi
 missing=()
 for p in "${PACKAGES[@]}"; do
