@@ -1,8 +1,9 @@
 // `ppohdem simulate`: run a DEM scene.
 //
-//   ppohdem simulate SCENE.toml [--engine reference|fast|optimized] [--force] [--quiet]
-//       Reads the TOML scene (ppohdem/dem/scene.hpp), runs it with the chosen engine and writes
-//       final.csv, energy.csv and frames into the scene's [output] dir.
+//   ppohdem simulate SCENE.toml [--engine fast|reference|optimized] [--force] [--quiet]
+//       Reads the TOML scene (ppohdem/dem/scene.hpp), runs it with the chosen engine (default
+//       fast, the same bits as the reference; `--engine reference` runs the lecture code) and
+//       writes final.csv, energy.csv and frames into the scene's [output] dir.
 //   ppohdem simulate input_params_update.dat [--data-length L] [--steps N | --time-finish T]
 //       The seed's sample_main01 (dem/legacy_scene.hpp), recognised by the first label
 //       `Lx_Ly_Lz:` or forced with --legacy; run in the directory holding the distance files.
@@ -53,7 +54,7 @@ namespace {
 
 struct SimulateOptions {
   std::string input;
-  std::string engine = "reference";
+  std::string engine = "fast";
   bool force = false;
   bool quiet = false;
   bool legacy = false;
@@ -71,11 +72,11 @@ struct SimulateOptions {
 
 /// `--alternate-threads`: the run switches the OpenMP thread count at every K-th step boundary
 /// and adds each block's wall time to its count. The counts then share the machine's state of
-/// the moment (this VM's speed drifts by up to 1.4x between minutes) and every phase of the run
+/// the moment (a shared VM's speed drifts between minutes) and every phase of the run
 /// (free fall, impact, settling), which separate runs do not. The order goes back and forth
 /// (A B B A A B ...: block b of round b / k takes count b % k, reversed in odd rounds), so that
-/// a cost that grows or shrinks along the run falls on every count alike: in strict turns
-/// (A B A B ...) one code path timed against itself came out 3-4 % apart on the settling bed.
+/// a cost that grows or shrinks along the run falls on every count alike (strict turns A B A B
+/// bias one count: docs/performance.md).
 class ThreadAlternation {
  public:
   ThreadAlternation(std::vector<int> counts, long every, long last_step)
@@ -217,6 +218,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   if (!root) return;  // rank 0 reports
   const double e0 = s.initial.total();
   const double e1 = s.final.total();
+  std::printf("engine %s\n", engine->name().c_str());
   std::printf("steps %ld, time %.6g s, wall %.3f s\n", s.steps, engine->time(), s.wall_seconds);
   std::printf("energy [J]: kinetic %.6e rotational %.6e gravitational %.6e elastic %.6e "
               "dissipated %.6e boundary_work %.6e\n",
@@ -294,7 +296,7 @@ void register_simulate(CLI::App& app, const Comm& comm) {
   options->comm = &comm;
   CLI::App* cmd = app.add_subcommand("simulate", "run a DEM scene (TOML) and write its outputs");
   cmd->add_option("scene", options->input, "scene file (TOML)")->required();
-  cmd->add_option("--engine", options->engine, "engine: reference, fast (alias optimized)")->capture_default_str();
+  cmd->add_option("--engine", options->engine, "engine: fast (default; alias optimized) or reference (the lecture code, serial)")->capture_default_str();
   cmd->add_flag("--force", options->force, "run even if dt is above the stability limit");
   cmd->add_flag("--quiet", options->quiet, "no progress lines on stderr");
   cmd->add_flag("--legacy", options->legacy, "read the input as a legacy input_params_update.dat");

@@ -286,6 +286,47 @@ TEST(FastEngineMpi, RestartAtAnotherRankCountContinuesBitwise) {
   }
 }
 
+// Rolling resistance (EPSD2: a spring in the history) through the decomposition: 1, 2 and 4
+// ranks give the reference's final state, and a checkpoint at 2 ranks restarts at 4 with the
+// same files as the uninterrupted run (the rolling springs are carried over and mirrored
+// across brick faces, and restored at another rank count).
+TEST(FastEngineMpi, RollingResistanceIsTheReferencesAcrossRanksAndRestarts) {
+  const long steps = 300, every = 100;
+  auto rolling_scene = [&](const fs::path& dir) {
+    const fs::path scene = ppohdem::dem::test::write_pile_scene(dir, steps, every);
+    replace_in_scene(scene, "model = \"hertz-mindlin\"", "model = \"hertz-mindlin\"\nrolling = \"epsd2\"");
+    replace_in_scene(scene, "friction = 0.5\n", "friction = 0.5\nrolling_friction = 0.1\n");
+    return scene;
+  };
+  const fs::path ref_dir = scratch("rolling_reference");
+  const CommandResult ref =
+      ppohdem::test::run_ppohdem("simulate '" + rolling_scene(ref_dir).string() + "' --engine reference --quiet");
+  ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  for (const int ranks : {1, 2, 4}) {
+    SCOPED_TRACE("ranks " + std::to_string(ranks));
+    const fs::path dir = scratch("rolling_np" + std::to_string(ranks));
+    const CommandResult run = run_mpi(ranks, 1, rolling_scene(dir), "--quiet");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    for (const char* file : {"final.csv", "energy.csv", "objects.csv"}) {
+      EXPECT_EQ(body(dir / "out" / file), body(ref_dir / "out" / file)) << file;
+    }
+  }
+  const fs::path dir = scratch("rolling_restart");
+  const fs::path scene = rolling_scene(dir);
+  const CommandResult first = run_mpi(2, 1, scene, "--quiet --steps 200 --checkpoint-every 200");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const CommandResult second = run_mpi(4, 1, scene, "--quiet --restart '" + (dir / "out" / "checkpoint.bin").string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  for (const char* file : {"final.csv", "energy.csv", "objects.csv"}) {
+    EXPECT_EQ(body(dir / "out" / file), body(ref_dir / "out" / file)) << file;
+  }
+  // Not vacuous: the rolling resistance changes the result.
+  const fs::path plain_dir = scratch("rolling_none");
+  const CommandResult plain = run_mpi(1, 1, ppohdem::dem::test::write_pile_scene(plain_dir, steps, every), "--quiet");
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_NE(body(plain_dir / "out" / "final.csv"), body(ref_dir / "out" / "final.csv"));
+}
+
 TEST(FastEngineMpi, ReferenceEngineOnSeveralRanksIsRefused) {
   const fs::path dir = scratch("refused");
   const fs::path scene = ppohdem::dem::test::write_pile_scene(dir, 10, 10);

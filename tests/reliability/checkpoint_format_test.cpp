@@ -194,8 +194,9 @@ TEST(CheckpointFormat, EveryTruncationIsRefused) {
 }
 
 TEST(CheckpointFormat, AnotherFormatVersionIsRefusedByName) {
-  // 1: the layout before the particles' material index (a file of an older build); 3: newer.
-  for (const std::uint32_t version : {1u, 3u}) {
+  // Older layouts (1: before the particles' material index, 2: before the rolling spring) and
+  // a newer one.
+  for (const std::uint32_t version : {1u, kCheckpointFormatVersion - 1, kCheckpointFormatVersion + 1}) {
     std::vector<std::uint8_t> b = encode_checkpoint(sample());
     write_u32(b, 8, version);  // a consistent header (its CRC recomputed)
     write_u32(b, header_length(b), crc32_of(b.data(), header_length(b)));
@@ -204,7 +205,8 @@ TEST(CheckpointFormat, AnotherFormatVersionIsRefusedByName) {
                            checkpoint_build_name()),
               std::string::npos)
         << message;
-    EXPECT_NE(message.find("reads format version 2"), std::string::npos) << message;
+    EXPECT_NE(message.find("reads format version " + std::to_string(kCheckpointFormatVersion)), std::string::npos)
+        << message;
   }
 }
 

@@ -102,13 +102,14 @@ class Reader {
   std::size_t base_;  // offset of data_ in the file, for messages
 };
 
-// ---- payload, format version 2 -----------------------------------------------------------
+// ---- payload, format version 3 -----------------------------------------------------------
 //   str provenance, str scene
 //   engine: str name, i64 step, f64 dt,
 //           u64 n, n x particle {i64 id, vec position, vec velocity, vec angular_velocity,
 //                                f64 radius, u32 material (< 65536), vec force, vec torque}
 //           u64 n, n x contact {u8 kind, i64 id_a, i64 id_b, vec xi, f64 k_t, vec branch_i,
-//                               vec branch_j, vec surface_velocity}
+//                               vec branch_j, vec surface_velocity, vec rolling torque,
+//                               f64 rolling stiffness}
 //           energies {f64 kinetic, rotational, gravitational, elastic, dissipated,
 //                     boundary_work}
 //           u64 n, n x i64 escaped id
@@ -117,9 +118,10 @@ class Reader {
 //           u64 n, n bytes engine_private
 //   objects: u64 n, n x {str name, f64 qw, qx, qy, qz, vec translation, u64 outside_grid}
 //   run: u64 n, n x str energy row; u64 n, n x str object row; u64 frames
-// Version 1 was version 2 without the particles' material (one-material scenes only).
+// Version 2 was version 3 without the rolling spring; version 1 also without the particles'
+// material (one-material scenes only).
 constexpr std::size_t kParticleBytes = 8 + 16 * 8 + 4;
-constexpr std::size_t kContactBytes = 1 + 2 * 8 + 13 * 8;
+constexpr std::size_t kContactBytes = 1 + 2 * 8 + 17 * 8;
 
 void encode_payload(Writer& w, const Checkpoint& c) {
   w.str(c.provenance);
@@ -144,11 +146,10 @@ void encode_payload(Writer& w, const Checkpoint& c) {
     w.u8(static_cast<std::uint8_t>(r.kind));
     w.i64(r.id_a);
     w.i64(r.id_b);
-    w.vec(r.spring.displacement);
-    w.f64(r.spring.stiffness);
-    w.vec(r.spring.branch_i);
-    w.vec(r.spring.branch_j);
-    w.vec(r.spring.surface_velocity);
+    TangentialSpring::for_each_field(r.spring, [&w](const auto& field) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(field)>, double>) w.f64(field);
+      else w.vec(field);
+    });
   }
   const Energies& a = e.accumulators;
   for (double v : {a.kinetic, a.rotational, a.gravitational, a.elastic, a.dissipated, a.boundary_work}) w.f64(v);
@@ -213,6 +214,8 @@ void decode_payload(Reader& r, Checkpoint& c) {
     h.spring.branch_i = r.vec("branch vector i");
     h.spring.branch_j = r.vec("branch vector j");
     h.spring.surface_velocity = r.vec("boundary surface velocity");
+    h.spring.rolling.torque = r.vec("rolling spring torque");
+    h.spring.rolling.stiffness = r.f64("rolling spring stiffness");
   }
   Energies& a = e.accumulators;
   for (double* v : {&a.kinetic, &a.rotational, &a.gravitational, &a.elastic, &a.dissipated, &a.boundary_work}) {

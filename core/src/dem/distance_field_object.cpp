@@ -66,6 +66,7 @@ std::optional<BoundaryContact> DistanceFieldObject::contact(const Vec3& centre, 
   c.overlap = radius - phi;                                  // delta = R - phi [m]
   c.point = centre - phi * c.normal;                         // foot on the tangent plane [m]
   c.surface_velocity = point_velocity(c.point, time);        // v + omega x (p - c(t)) [m/s]
+  c.surface_spin = motion_.angular_velocity;                 // omega [rad/s]
   return c;
 }
 

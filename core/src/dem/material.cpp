@@ -46,6 +46,9 @@ void validate(const Material& m, bool needs_elastic, const std::string& where) {
   if (!(m.friction >= 0.0) || !std::isfinite(m.friction)) {
     fail("friction must be >= 0, got " + std::to_string(m.friction));
   }
+  if (!(m.rolling_friction >= 0.0) || !std::isfinite(m.rolling_friction)) {
+    fail("rolling_friction must be >= 0, got " + std::to_string(m.rolling_friction));
+  }
   if (needs_elastic) {
     if (!(m.young > 0.0) || !std::isfinite(m.young)) {
       fail("young must be > 0 Pa, got " + std::to_string(m.young));

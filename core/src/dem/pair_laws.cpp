@@ -10,12 +10,14 @@ namespace ppohdem::dem {
 PairCoefficients pair_coefficients(const SimulationSetup& setup, std::size_t a, std::size_t b) {
   const Material& ma = setup.material_at(a);
   const Material& mb = setup.material_at(b);
-  PairCoefficients c{std::min(ma.restitution, mb.restitution), std::min(ma.friction, mb.friction)};
+  PairCoefficients c{std::min(ma.restitution, mb.restitution), std::min(ma.friction, mb.friction),
+                     std::min(ma.rolling_friction, mb.rolling_friction)};
   if (a == b) return c;
   for (const MaterialPairRule& r : setup.material_pairs) {
     if ((r.a == a && r.b == b) || (r.a == b && r.b == a)) {
       if (r.restitution) c.restitution = *r.restitution;
       if (r.friction) c.friction = *r.friction;
+      if (r.rolling_friction) c.rolling_friction = *r.rolling_friction;
     }
   }
   return c;
@@ -23,9 +25,11 @@ PairCoefficients pair_coefficients(const SimulationSetup& setup, std::size_t a, 
 
 template <class Law>
 PairLaws<Law>::PairLaws(const SimulationSetup& setup, const Law& law)
-    : n_(setup.material_count()), laws_(n_ * n_, law), boundary_material_(setup.boundary_materials) {
+    : n_(setup.material_count()), laws_(n_ * n_, law), boundary_material_(setup.boundary_materials),
+      rolling_(setup.rolling != RollingModel::kNone) {
   if constexpr (std::is_same_v<Law, LinearSpringDashpot>) {
     if (n_ != 1) throw InputError(setup.source, 0, "the linear contact law takes one material only (pair_laws.hpp)");
+    if (rolling_) laws_[0].set_rolling({setup.rolling, setup.material.rolling_friction});
   } else {
     for (std::size_t a = 0; a < n_; ++a) {
       for (std::size_t b = a; b < n_; ++b) {
@@ -36,6 +40,7 @@ PairLaws<Law>::PairLaws(const SimulationSetup& setup, const Law& law)
           const PairCoefficients c = pair_coefficients(setup, a, b);
           l = Law::from_pair(setup.material_at(a), setup.material_at(b), c.restitution, c.friction);
         }
+        if (rolling_) l.set_rolling({setup.rolling, pair_coefficients(setup, a, b).rolling_friction});
         laws_[a * n_ + b] = l;  // the same object both ways: symmetric bit for bit
         laws_[b * n_ + a] = l;
       }
@@ -45,7 +50,7 @@ PairLaws<Law>::PairLaws(const SimulationSetup& setup, const Law& law)
 
 template <class Law>
 bool PairLaws<Law>::any_friction() const {
-  return std::any_of(laws_.begin(), laws_.end(), [](const Law& l) { return l.friction() > 0.0; });
+  return rolling_ || std::any_of(laws_.begin(), laws_.end(), [](const Law& l) { return l.friction() > 0.0; });
 }
 
 template class PairLaws<LinearSpringDashpot>;

@@ -17,19 +17,13 @@ PlaneWall::PlaneWall(const Vec3& point, const Vec3& normal, const Vec3& velocity
 
 std::optional<BoundaryContact> PlaneWall::contact(const Vec3& centre, double radius,
                                                   double time) const {
-  const Vec3 p = point_at(time);
-  const double distance = (centre - p).dot(normal_);  // signed, > 0 on the domain side [m]
+  const double distance = signed_distance(point_at(time), normal_, centre);  // [m]
   if (distance <= 0.0 || distance >= radius) return std::nullopt;
-  BoundaryContact c;
-  c.normal = normal_;
-  c.overlap = radius - distance;
-  c.point = centre - distance * normal_;
-  c.surface_velocity = velocity_;
-  return c;
+  return touching(normal_, velocity_, centre, radius, distance);
 }
 
 bool PlaneWall::has_escaped(const Vec3& centre, double time) const {
-  return (centre - point_at(time)).dot(normal_) <= 0.0;
+  return signed_distance(point_at(time), normal_, centre) <= 0.0;
 }
 
 std::string PlaneWall::describe() const {

@@ -45,8 +45,14 @@ class SceneParser {
     s.energy_balance = optional_bool(sim, "simulation", "energy_balance").value_or(true);
 
     const toml::table& contact = require_table(root, "contact");
-    check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio"});
+    check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio", "rolling"});
     const std::string model = require_string(contact, "contact", "model");
+    if (contact.contains("rolling")) {
+      const std::string rolling = require_string(contact, "contact", "rolling");
+      if (rolling == "cdt") s.rolling = RollingModel::kCdt;
+      else if (rolling == "epsd2") s.rolling = RollingModel::kEpsd2;
+      else if (rolling != "none") fail(contact.get("rolling"), "[contact] rolling: expected \"none\", \"cdt\" or \"epsd2\", found \"" + rolling + "\"");
+    }
     read_materials(root, model == "hertz-mindlin", s);
     const toml::table& particles = require_table(root, "particles");
     read_particles(particles, s);
@@ -371,7 +377,7 @@ class SceneParser {
                  "one stiffness for every pair)");
     }
     for (const toml::table* t : tables) {
-      check_keys(*t, "material", {"name", "density", "young", "poisson", "restitution", "friction"});
+      check_keys(*t, "material", {"name", "density", "young", "poisson", "restitution", "friction", "rolling_friction"});
       std::string name = "default";
       if (several || t->contains("name")) {
         name = require_string(*t, "material", "name");
@@ -388,6 +394,7 @@ class SceneParser {
       m.poisson = optional_number(*t, "material", "poisson").value_or(0.0);
       m.restitution = require_number(*t, "material", "restitution");
       m.friction = optional_number(*t, "material", "friction").value_or(0.0);
+      m.rolling_friction = optional_number(*t, "material", "rolling_friction").value_or(0.0);
       if (tables.size() > 1) {  // name the entry and its line (one material: checked with the model)
         try {
           validate(m, hertz, name_);
@@ -405,7 +412,7 @@ class SceneParser {
       for (const toml::node& item : *list) {
         const toml::table* t = item.as_table();
         if (!t) fail(&item, "[[material_pair]] entries must be tables");
-        check_keys(*t, "material_pair", {"materials", "restitution", "friction"});
+        check_keys(*t, "material_pair", {"materials", "restitution", "friction", "rolling_friction"});
         const toml::node* names = t->get("materials");
         const toml::array* two = names ? names->as_array() : nullptr;
         if (!two || two->size() != 2 || !two->get(0)->is_string() || !two->get(1)->is_string()) {
@@ -420,7 +427,13 @@ class SceneParser {
         }
         r.restitution = optional_number(*t, "material_pair", "restitution");
         r.friction = optional_number(*t, "material_pair", "friction");
-        if (!r.restitution && !r.friction) fail(t, "[[material_pair]]: expected restitution and/or friction");
+        r.rolling_friction = optional_number(*t, "material_pair", "rolling_friction");
+        if (!r.restitution && !r.friction && !r.rolling_friction) {
+          fail(t, "[[material_pair]]: expected restitution, friction and/or rolling_friction");
+        }
+        if (r.rolling_friction && !(*r.rolling_friction >= 0.0 && std::isfinite(*r.rolling_friction))) {
+          fail(t->get("rolling_friction"), "[[material_pair]] rolling_friction must be >= 0");
+        }
         if (r.restitution && !(*r.restitution > 0.0 && *r.restitution <= 1.0)) {
           fail(t->get("restitution"), "[[material_pair]] restitution must be in (0, 1]");
         }

@@ -1,3 +1,8 @@
+// Contact detection by a cell list (Allen & Tildesley 1987, sec. 5.3.2): space is cut into
+// cubic cells of edge h >= 2 R_max [m], so two touching spheres (|x_i - x_j| < R_i + R_j <=
+// 2 R_max) lie in the same or in neighbouring cells; each particle is tested against the 27
+// cells around its own, O(N) per step instead of the O(N^2) of all pairs. The pairs are then
+// sorted by (id_i, id_j) so that nothing depends on the storage order of the particles.
 #include "ppohdem/dem/reference/cell_list.hpp"
 
 #include <algorithm>

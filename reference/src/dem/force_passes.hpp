@@ -2,7 +2,21 @@
 // The force passes of the reference engine, one class template per interaction kind and
 // instantiated per (law, friction) at construction: a frictionless scene runs the kernel
 // without any tangential history code, a scene without walls has no boundary pass at all.
-// The kernels mirror the formulas of ppohdem/dem/contact_force.hpp.
+//
+// Geometry of a contact between spheres i and j (docs/dem.md):
+//   d = x_i - x_j,  n = d / |d|          unit normal from j towards i
+//   delta = R_i + R_j - |d| > 0          overlap [m]
+//   r_i = -(R_i - delta/2) n,  r_j = (R_j - delta/2) n   branch vectors to the contact point
+//   v_rel = (v_i + w_i x r_i) - (v_j + w_j x r_j)       relative velocity there [m/s]
+//   m* = m_i m_j / (m_i + m_j),  R* = R_i R_j / (R_i + R_j)   [kg], [m]
+// A boundary is a body j of infinite mass and radius: m* = m_i, R* = R_i, and v_j + w_j x r_j
+// is the velocity of its material at the contact point.
+// The force laws (contact_law.hpp): Hertz 1882 normal elasticity F_n = (4/3) E* sqrt(R*)
+// delta^{3/2}; Tsuji, Tanaka & Ishida 1992 damping ~ delta^{1/4} delta_dot; Mindlin &
+// Deresiewicz 1953 tangential stiffness k_t = 8 G* sqrt(R* delta) with the Coulomb cap
+// |F_t| <= mu F_n (contact_force.hpp); or the linear spring-dashpot of Cundall & Strack 1979.
+// Rolling resistance (CDT or EPSD2) adds a torque M on i and -M on j (rolling_resistance.hpp).
+// Newton's third law: F on i, -F on j; torques r_i x F (+ M) on i, r_j x (-F) (- M) on j.
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -54,14 +68,13 @@ class PairForces final : public ForcePass {
     for (const auto& [i, j] : pairs) {
       Particle& a = p[i];
       Particle& b = p[j];
-      const Vec3 d = a.position - b.position;  // from j to i
-      const double distance = d.norm();
+      // Normal, overlap and branch vectors to the contact point in the middle of the overlap.
+      const ppohdem::dem::SpherePairGeometry g = ppohdem::dem::sphere_pair_geometry(a.position - b.position, a.radius, b.radius);
       ContactKinematics k;
-      k.normal = d / distance;
-      k.overlap = a.radius + b.radius - distance;
-      // Contact point in the middle of the overlap; branch vectors from each centre [m].
-      const Vec3 r_a = -(a.radius - 0.5 * k.overlap) * k.normal;
-      const Vec3 r_b = (b.radius - 0.5 * k.overlap) * k.normal;
+      k.normal = g.normal;
+      k.overlap = g.overlap;
+      const Vec3& r_a = g.r_i;
+      const Vec3& r_b = g.r_j;
       k.relative_velocity = (c.velocity[i] + c.angular_velocity[i].cross(r_a)) -
                             (c.velocity[j] + c.angular_velocity[j].cross(r_b));
       k.relative_displacement = c.dt * ((a.velocity + a.angular_velocity.cross(r_a)) -
@@ -70,6 +83,10 @@ class PairForces final : public ForcePass {
       k.pair.r_eff = harmonic_pair(a.radius, b.radius);    // R* = R_i R_j / (R_i + R_j)
       c.note_overlap(k.overlap, std::min(a.radius, b.radius), a.id, b.id, false);
       const Law& law = laws_.pair(a.material, b.material);
+      if (law.rolling().active()) {  // rolling_resistance.hpp
+        k.relative_spin = c.angular_velocity[i] - c.angular_velocity[j];
+        k.relative_rotation = c.dt * (a.angular_velocity - b.angular_velocity);
+      }
       ContactForce f;
       if constexpr (kFriction) {
         const Key key(a.id, b.id);
@@ -89,8 +106,13 @@ class PairForces final : public ForcePass {
       // Newton's third law: equal and opposite forces at the contact point.
       a.force += f.on_i;
       b.force -= f.on_i;
-      a.torque += r_a.cross(f.on_i);
-      b.torque += r_b.cross(-f.on_i);
+      if (law.rolling().active()) {  // the rolling torque acts on i, its opposite on j
+        a.torque += r_a.cross(f.on_i) + f.rolling_torque;
+        b.torque += -(r_b.cross(f.on_i) + f.rolling_torque);
+      } else {
+        a.torque += r_a.cross(f.on_i);
+        b.torque += r_b.cross(-f.on_i);
+      }
       c.elastic += f.elastic_energy;
       c.dissipated += f.dissipated;
     }
@@ -136,12 +158,14 @@ class PairForces final : public ForcePass {
   using Key = std::pair<std::int64_t, std::int64_t>;  // (id_i, id_j), id_i < id_j
   using History = std::vector<std::pair<Key, TangentialSpring>>;
   /// The order in which the pass visits the pairs: by the lower id DEScending, then by the
-  /// higher id ascending. With Newton's third law applied at each pair, every particle then
-  /// receives its contacts with higher-id partners (ascending id) first and those with
-  /// lower-id partners (descending id) after them, before the boundary pass adds its
-  /// boundaries. This fixed order is the one the fast engine sums in (docs/dem.md,
-  /// "Reproducibility argument"): the first part in its pass over the contacts each particle
-  /// evaluates, the rest in the pass over the partners' results.
+  /// higher id ascending. WHY this order: floating-point sums depend on their order, and this
+  /// one is the order in which the parallel fast engine can add each particle's contacts
+  /// without atomics, so both engines give the same bits. With Newton's third law applied at
+  /// each pair, every particle receives its contacts with higher-id partners (ascending id)
+  /// first and those with lower-id partners (descending id) after them, before the boundary
+  /// pass adds its boundaries: the fast engine adds the first part in its pass over the
+  /// contacts each particle evaluates, the rest in its pass over the partners' results
+  /// (docs/dem.md, "Reproducibility argument").
   static bool visited_before(const Key& a, const Key& b) {
     return a.first != b.first ? a.first > b.first : a.second < b.second;
   }
@@ -187,6 +211,10 @@ class BoundaryForces final : public ForcePass {
         k.pair.m_eff = c.mass[i];
         k.pair.r_eff = a.radius;
         const Law& law = laws_.boundary(a.material, w);
+        if (law.rolling().active()) {  // the boundary's spin is that of its material
+          k.relative_spin = c.angular_velocity[i] - contact->surface_spin;
+          k.relative_rotation = c.dt * (a.angular_velocity - contact->surface_spin);
+        }
         ContactForce f;
         if constexpr (kFriction) {
           const auto key = std::pair(a.id, w);
@@ -207,10 +235,15 @@ class BoundaryForces final : public ForcePass {
           f = ppohdem::dem::normal_contact_force(law, k, c.dt);
         }
         a.force += f.on_i;
-        a.torque += r_a.cross(f.on_i);
+        if (law.rolling().active()) {
+          a.torque += r_a.cross(f.on_i) + f.rolling_torque;
+        } else {
+          a.torque += r_a.cross(f.on_i);
+        }
         // Reaction on the boundary (Newton's third law), at the contact point.
         loads_[w].force -= f.on_i;
         loads_[w].moment_about_origin += contact->point.cross(-f.on_i);
+        if (law.rolling().active()) loads_[w].moment_about_origin -= f.rolling_torque;
         c.elastic += f.elastic_energy;
         c.dissipated += f.dissipated;
         // Work of the boundary on the particle (contact_force.hpp "Moving boundaries"): the

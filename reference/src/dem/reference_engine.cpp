@@ -1,3 +1,20 @@
+// The reference DEM engine: one time step, as a lecture (docs/dem.md).
+//
+// Equations of motion of sphere i (mass m_i = rho (4/3) pi R_i^3 [kg], moment of inertia
+// I_i = (2/5) m_i R_i^2 [kg m^2]):
+//   m_i dv_i/dt = sum_c F_c + m_i g              [N]
+//   I_i dw_i/dt = sum_c (r_c x F_c + M_c)        [N m]   (M_c: rolling resistance only)
+// Integrated with velocity Verlet (Allen & Tildesley, "Computer Simulation of Liquids", 1987,
+// sec. 3.2.1; second order, time-reversible for conservative forces):
+//   v(n+1/2) = v(n) + a(n) dt/2          half kick                  [m/s]
+//   x(n+1)   = x(n) + v(n+1/2) dt        drift                      [m]
+//   a(n+1)   = F(x(n+1), ...) / m        forces (force_passes.hpp)  [m/s^2]
+//   v(n+1)   = v(n+1/2) + a(n+1) dt/2    second half kick           [m/s]
+// The dashpots need a velocity at t(n+1), which Verlet does not have yet: they use the
+// prediction v(n+1/2) + a(n) dt/2 (contact_force.hpp explains why this keeps the energy book
+// second order). Spins follow the same scheme with torque / I (spheres: I is isotropic).
+// Energies [J]: kinetic m|v|^2/2, rotational I|w|^2/2, gravitational -m g.x, plus the
+// contacts' elastic, dissipated and boundary work (contact_force.hpp, "Energy book-keeping").
 #include "ppohdem/dem/reference/reference_engine.hpp"
 
 #include <algorithm>

@@ -21,6 +21,7 @@ struct BoundaryContact {
   double overlap = 0.0;                 ///< delta = R - distance(centre, surface) > 0 [m]
   Vec3 point = Vec3::Zero();            ///< contact point on the boundary surface [m]
   Vec3 surface_velocity = Vec3::Zero();  ///< velocity of the boundary material there [m/s]
+  Vec3 surface_spin = Vec3::Zero();  ///< angular velocity of the boundary [rad/s] (rolling resistance)
 };
 
 class Boundary {
@@ -51,6 +52,21 @@ class PlaneWall final : public Boundary {
   std::string describe() const override;
 
   Vec3 point_at(double time) const { return point_ + velocity_ * time; }  ///< [m]
+  /// The plane's formulas, written once (the fast engine evaluates walls inline with them):
+  /// signed distance d = (x - point) . n [m], > 0 on the domain side ...
+  static double signed_distance(const Vec3& point, const Vec3& normal, const Vec3& centre) {
+    return (centre - point).dot(normal);
+  }
+  /// ... and the contact of a sphere at distance 0 < d < R: overlap R - d, foot x - d n.
+  static BoundaryContact touching(const Vec3& normal, const Vec3& velocity, const Vec3& centre, double radius,
+                                  double distance) {
+    BoundaryContact c;
+    c.normal = normal;
+    c.overlap = radius - distance;
+    c.point = centre - distance * normal;
+    c.surface_velocity = velocity;
+    return c;
+  }
   const Vec3& normal() const { return normal_; }
   const Vec3& velocity() const { return velocity_; }  ///< [m/s]
 

@@ -12,7 +12,7 @@
 ///            u32 n + n bytes: the writer's build ("ppohdem 0.1.0 (git abc123)")
 ///            u64 payload length [bytes]
 ///            u32 CRC-32 of the header bytes above
-///   payload  (format version 2) see checkpoint.cpp, encode_payload()
+///   payload  (format version 3) see checkpoint.cpp, encode_payload()
 ///   trailer  u32 CRC-32 of the payload
 /// Magic, version and build keep their place in every future version, so a file of another
 /// version is refused naming both versions and builds. CRC-32 is zlib's crc32 (the
@@ -30,7 +30,7 @@
 namespace ppohdem::dem {
 
 /// 2: particles carry their material index (multi-material scenes); 1 (refused) did not.
-inline constexpr std::uint32_t kCheckpointFormatVersion = 2;
+inline constexpr std::uint32_t kCheckpointFormatVersion = 3;
 inline constexpr char kCheckpointMagic[9] = "PPOHDEMC";
 
 /// A rigid object's pose when the checkpoint was written (the motion is prescribed, so this

@@ -69,6 +69,7 @@
 /// translating wall but is FIRST order on a rotating surface, where v_s at the moving contact
 /// point changes (docs/objects.md: 3.6e-5 relative at dt = 1e-7 s before the change).
 #include "ppohdem/dem/contact_law.hpp"
+#include "ppohdem/dem/rolling_resistance.hpp"
 #include "ppohdem/geometry/vector.hpp"
 
 namespace ppohdem::dem {
@@ -82,10 +83,21 @@ struct ContactKinematics {
   /// lever arms through which the previous tangential force's torque acted during the step
   /// (frictional contacts only; equals ds when the branch vectors did not change) [m]
   Vec3 relative_displacement_previous_arms = Vec3::Zero();
+  /// Rolling resistance only (rolling_resistance.hpp): w_i - w_j at the evaluation time, and
+  /// the step's relative rotation (w_i - w_j at mid-step) dt [rad/s], [rad].
+  Vec3 relative_spin = Vec3::Zero();
+  Vec3 relative_rotation = Vec3::Zero();
   PairProperties pair;
 };
 
-/// The history of one frictional contact (the seed's contact_list entry).
+/// The history of one contact (the seed's contact_list entry), kept by every law with sliding
+/// friction or rolling resistance. The rules about history are stated here once:
+///   - holds_history(): an entry with any nonzero field is a history (checkpointed, carried
+///     over, its stored energy lost when the contact ends); a new contact starts from {};
+///   - mirrored() (fast engine): the partner's view negates the vectors that are odd in the
+///     normal (displacement, rolling torque) and swaps the branch vectors;
+///   - a checkpoint and the fast engine's messages store every field, in the order of
+///     for_each_field below (checkpoint.cpp, fast/pack.hpp).
 struct TangentialSpring {
   Vec3 displacement = Vec3::Zero();  ///< xi [m]
   double stiffness = 0.0;            ///< k_t at the last update [N/m]
@@ -94,17 +106,71 @@ struct TangentialSpring {
   /// Velocity of j's material at the contact point at the last update, v_s(n) (boundaries
   /// only: it gives the trapezoid surface displacement of the next step) [m/s]
   Vec3 surface_velocity = Vec3::Zero();
-  double stored_energy() const { return 0.5 * stiffness * displacement.squaredNorm(); }  ///< [J]
+  RollingSpring rolling;  ///< EPSD2 rolling resistance only (rolling_resistance.hpp)
+  /// Energy stored in the springs [J]; lost when the contact ends.
+  double stored_energy() const {
+    const double tangential = 0.5 * stiffness * displacement.squaredNorm();
+    return rolling.stiffness > 0.0 ? tangential + rolling.stored_energy() : tangential;
+  }
+  /// Whether this entry carries anything a later step needs (see above).
+  bool holds_history() const {
+    return stiffness != 0.0 || branch_i != Vec3::Zero() || displacement != Vec3::Zero() ||
+           rolling.stiffness != 0.0 || rolling.torque != Vec3::Zero();
+  }
+  /// The partner's view of a pair history: bitwise what the partner's own evaluation stores
+  /// (the update is odd in the normal and the displacements, even in the scalars).
+  TangentialSpring mirrored() const {
+    TangentialSpring m;
+    m.displacement = -displacement;
+    m.stiffness = stiffness;
+    m.branch_i = branch_j;
+    m.branch_j = branch_i;
+    m.rolling.torque = -rolling.torque;
+    m.rolling.stiffness = rolling.stiffness;
+    return m;
+  }
+  /// Calls f on every field (Vec3 or double), in the stored order.
+  template <class Spring, class F>
+  static void for_each_field(Spring& s, F&& f) {
+    f(s.displacement);
+    f(s.stiffness);
+    f(s.branch_i);
+    f(s.branch_j);
+    f(s.surface_velocity);
+    f(s.rolling.torque);
+    f(s.rolling.stiffness);
+  }
 };
 
 struct ContactForce {
   Vec3 on_i = Vec3::Zero();     ///< force on body i; body j receives -on_i [N]
+  /// Torque on body i besides r_i x on_i (rolling resistance); j receives -rolling_torque [N m]
+  Vec3 rolling_torque = Vec3::Zero();
   /// The dashpot's share of on_i, (F_n - F_n,elastic) n [N]: its work is booked at the
   /// evaluation time (the rectangle rule, as its dissipation), see "Moving boundaries".
   Vec3 dashpot = Vec3::Zero();
   double elastic_energy = 0.0;  ///< stored in the contact's springs now [J]
   double dissipated = 0.0;      ///< energy removed during this step [J]
 };
+
+/// The geometry of two touching spheres i, j with d = x_i - x_j (docs/dem.md), written once
+/// for both engines: n = d / |d| (from j towards i), delta = R_i + R_j - |d| [m], and the
+/// branch vectors to the contact point in the middle of the overlap,
+/// r_i = -(R_i - delta/2) n, r_j = (R_j - delta/2) n [m].
+struct SpherePairGeometry {
+  Vec3 normal;
+  double overlap;
+  Vec3 r_i, r_j;
+};
+inline SpherePairGeometry sphere_pair_geometry(const Vec3& d, double radius_i, double radius_j) {
+  const double distance = d.norm();
+  SpherePairGeometry g;
+  g.normal = d / distance;
+  g.overlap = radius_i + radius_j - distance;
+  g.r_i = -(radius_i - 0.5 * g.overlap) * g.normal;
+  g.r_j = (radius_j - 0.5 * g.overlap) * g.normal;
+  return g;
+}
 
 /// Mean velocity of a moving boundary's material at the contact over the last step [m/s], so
 /// that d_s = dt * (result): the trapezoid rule (v_s(n) + v_s(n+1)) / 2 for a contact that
@@ -178,7 +244,14 @@ ContactForce frictional_contact_force(const Law& law, const ContactKinematics& c
                     (xi_previous.dot(c.relative_displacement_previous_arms) -
                      xi_rotated.dot(c.relative_displacement));
   out.on_i += f_t;
-  out.elastic_energy += spring.stored_energy();
+  out.elastic_energy += 0.5 * spring.stiffness * spring.displacement.squaredNorm();
+  if (law.rolling().active()) {  // a runtime test: laws without it pay one predicted branch
+    const RollingTorque m = rolling_torque(law.rolling(), c.pair.r_eff, f_n, k_t, n, c.relative_spin,
+                                           c.relative_rotation, spring.rolling, dt);
+    out.rolling_torque = m.on_i;
+    out.elastic_energy += m.elastic;
+    out.dissipated += m.dissipated;
+  }
   return out;
 }
 

@@ -40,6 +40,7 @@
 #include <cmath>
 
 #include "ppohdem/dem/material.hpp"
+#include "ppohdem/dem/rolling_resistance.hpp"
 
 namespace ppohdem::dem {
 
@@ -77,6 +78,9 @@ class LinearSpringDashpot {
     return 0.5 * k_n_ * delta * delta;  // U_n = k_n delta^2 / 2 [J]
   }
   double tangential_stiffness(double, const PairProperties&) const { return k_t_; }
+  /// Rolling resistance of the pair (rolling_resistance.hpp); none unless set.
+  const RollingParameters& rolling() const { return rolling_; }
+  void set_rolling(const RollingParameters& rolling) { rolling_ = rolling; }
 
  private:
   double k_n_ = 0.0;  ///< [N/m]
@@ -84,6 +88,7 @@ class LinearSpringDashpot {
   double e_ = 1.0;
   double mu_ = 0.0;
   double log_factor_ = 0.0;  ///< -ln e / sqrt(pi^2 + ln^2 e) [-]
+  RollingParameters rolling_;
 };
 
 class HertzMindlin {
@@ -121,6 +126,9 @@ class HertzMindlin {
   double tangential_stiffness(double delta, const PairProperties& pair) const {
     return 8.0 * g_star_ * std::sqrt(pair.r_eff * delta);
   }
+  /// Rolling resistance of the pair (rolling_resistance.hpp); none unless set.
+  const RollingParameters& rolling() const { return rolling_; }
+  void set_rolling(const RollingParameters& rolling) { rolling_ = rolling; }
 
  private:
   double e_star_ = 0.0;
@@ -128,6 +136,7 @@ class HertzMindlin {
   double e_ = 1.0;
   double mu_ = 0.0;
   double alpha_ = 0.0;
+  RollingParameters rolling_;
 };
 
 /// The elastic Hertz collision duration 2.87 (m*^2 / (R* E*^2 v))^{1/5} [s] (Johnson 1985,

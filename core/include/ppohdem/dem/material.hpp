@@ -25,6 +25,7 @@ struct Material {
   double poisson = 0.0;      ///< nu [-]
   double restitution = 1.0;  ///< e: measured normal restitution of a binary collision [-]
   double friction = 0.0;     ///< Coulomb coefficient mu [-]; 0 = frictionless (no history)
+  double rolling_friction = 0.0;  ///< mu_r [-] ([contact] rolling, rolling_resistance.hpp)
 
   double shear_modulus() const { return young / (2.0 * (1.0 + poisson)); }  ///< G [Pa]
   double effective_young() const { return young / (2.0 * (1.0 - poisson * poisson)); }  ///< E* [Pa]

@@ -7,9 +7,9 @@
 ///   elastic part (Hertz-Mindlin):  E*, G* of the two materials (material.hpp,
 ///                                  pair_effective_young/_shear; Johnson 1985 eq. 4.22,
 ///                                  Mindlin 1949)
-///   restitution e_ab, friction mu_ab of two DIFFERENT materials a, b:
+///   restitution e_ab, friction mu_ab, rolling friction mu_r,ab of two DIFFERENT materials a, b:
 ///     explicit   SimulationSetup::material_pairs (scene [[material_pair]]), else
-///     mixing     e_ab = min(e_a, e_b),  mu_ab = min(mu_a, mu_b)
+///     mixing     e_ab = min(e_a, e_b),  mu_ab = min(mu_a, mu_b),  mu_r,ab = min(mu_r,a, mu_r,b)
 ///   diagonal   (a, a): the material's own law; (0, 0) is SimulationSetup::law itself, so a
 ///              one-material scene runs exactly the law it always ran.
 /// The mixing rule: the more dissipative, the less rough material sets the contact, and equal
@@ -35,6 +35,7 @@ namespace ppohdem::dem {
 struct PairCoefficients {
   double restitution = 1.0;  ///< e [-]
   double friction = 0.0;     ///< mu [-]
+  double rolling_friction = 0.0;  ///< mu_r [-], mixed and given like mu
 };
 PairCoefficients pair_coefficients(const SimulationSetup& setup, std::size_t a, std::size_t b);
 
@@ -53,12 +54,15 @@ class PairLaws {
     return w < 0 ? m : static_cast<std::size_t>(w);
   }
   const Law& boundary(std::size_t m, std::size_t b) const { return pair(m, boundary_partner(m, b)); }
-  bool any_friction() const;  ///< some pair has mu > 0 (the kernels then keep histories)
+  /// Some pair has mu > 0 or rolling resistance: the kernels then keep histories.
+  bool any_friction() const;
+  bool any_rolling() const { return rolling_; }  ///< [contact] rolling is not "none"
 
  private:
   std::size_t n_ = 1;
   std::vector<Law> laws_;  ///< row-major n x n
   std::vector<std::int32_t> boundary_material_;
+  bool rolling_ = false;
 };
 
 extern template class PairLaws<LinearSpringDashpot>;

@@ -25,6 +25,7 @@ struct MaterialPairRule {
   std::uint16_t b = 0;  ///< material index, != a
   std::optional<double> restitution;  ///< e of the pair [-]
   std::optional<double> friction;     ///< mu of the pair [-]
+  std::optional<double> rolling_friction;  ///< mu_r of the pair [-]
 };
 
 /// At most this many materials in a scene (the pair-law table has count^2 entries).
@@ -35,6 +36,7 @@ struct SimulationSetup {
   Vec3 gravity = Vec3::Zero();     ///< g [m/s^2]
   Material material;               ///< material 0: the only one of a one-material scene
   ContactLaw law;                  ///< the law of two particles of material 0 (pair_laws.hpp)
+  RollingModel rolling = RollingModel::kNone;  ///< [contact] rolling (rolling_resistance.hpp)
   /// Multi-material scenes (Hertz-Mindlin only): materials 1, 2, ... (a particle with
   /// Particle::material = k >= 1 is made of more_materials[k - 1]); empty for one material.
   std::vector<Material> more_materials;

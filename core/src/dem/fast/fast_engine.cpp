@@ -56,7 +56,6 @@ std::array<double, K> parallel_ordered_sum(std::size_t n, const Term& term) {
 }
 
 /// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
-bool keeps_history(const TangentialSpring& s) { return s.stiffness != 0.0 || s.branch_i != Vec3::Zero() || s.displacement != Vec3::Zero(); }
 
 template <class T>
 std::size_t bytes(const std::vector<T>& v) {
@@ -94,6 +93,7 @@ struct History {
       p.put(records[a].spring);
       p.put(records[a].force);
       p.put(records[a].point);
+      p.put(records[a].rolling);
     }
   }
   void unpack_append(Unpacker& u) {
@@ -110,6 +110,7 @@ struct History {
       u.get(r.spring);
       u.get(r.force);
       u.get(r.point);
+      u.get(r.rolling);
       records.push_back(r);
     }
     record_first.push_back(static_cast<std::uint32_t>(records.size()));
@@ -168,8 +169,8 @@ struct FastEngine::Impl {
   /// One rank without energy tracking: no sum over the particles runs every step. The
   /// kinetic, rotational and gravitational energies, the boundary loads and the escaped count
   /// are summed when asked (the same terms in the same order, so the same bits), and the run
-  /// checks screen the motion with close_kick's screen (motion_finite). Measured: 0.923-0.926
-  /// of the time of a step of the settling bed (docs/performance.md).
+  /// checks screen the motion with close_kick's screen (motion_finite). Why: a per-step sum is
+  /// a pass over every particle that nothing reads (docs/performance.md).
   bool lazy_sums() const { return !energy_balance && !distributed(); }
   /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
   bool kick_cached = false;
@@ -182,8 +183,8 @@ struct FastEngine::Impl {
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
   /// A list build's histories (build_lists): kept between builds so that their storage is
-  /// reused, not allocated and zeroed afresh (about 0.5M cycles of a 10,000-particle build:
-  /// docs/performance.md "Cheaper list builds, second pass"). They stay in the order before the
+  /// reused, not allocated and zeroed afresh (docs/performance.md "Cheaper list builds, second
+  /// pass"). They stay in the order before the
   /// cell sort: install_history reads them through the sort's order.
   History history;
   std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
@@ -254,7 +255,7 @@ struct FastEngine::Impl {
       other_side = j < n && s.id[j] < s.id[k];
       if (other_side && !mirrors) return kNoSpring;
       const std::uint32_t code = other_side ? s.spring_of[s.mirror[slot]] : s.spring_of[slot];
-      return code == kNoSpring || !keeps_history(s.spring_at(code)) ? kNoSpring : code;
+      return code == kNoSpring || !s.spring_at(code).holds_history() ? kNoSpring : code;
     };
     // Counts, offsets, then each particle's block filled on the threads.
     h.first.assign(n + 1, 0);
@@ -285,7 +286,7 @@ struct FastEngine::Impl {
           const std::uint32_t code = carried(k, slot, other_side);
           if (code == kNoSpring) continue;
           h.partner_id[a] = s.id[s.partner[slot]];
-          h.spring[a++] = other_side ? mirrored(s.spring_at(code)) : s.spring_at(code);
+          h.spring[a++] = other_side ? s.spring_at(code).mirrored() : s.spring_at(code);
         }
       }
       if (boundaries) {
@@ -360,9 +361,8 @@ struct FastEngine::Impl {
 
   /// The halo plan applied: the moving fields of the ghosts from their owners. A message holds
   /// the moving arrays one after the other (all the x, then all the v, ...), sized once and
-  /// copied value by value without a Packer (appending value by value, this took 0.83 of 11.4
-  /// Gcycles per rank of a 2-rank run of the settling bed: docs/performance.md "Threads cut
-  /// across the longest axis").
+  /// copied value by value without a Packer (appending value by value was a large share of a
+  /// 2-rank step: docs/performance.md "Two ranks untracked").
   void refresh_ghosts() {
     if (!distributed()) return;
     static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 array is a plain array of doubles");
@@ -438,7 +438,7 @@ struct FastEngine::Impl {
       std::uint32_t near = always;
       for (std::size_t b = 0; b < std::min<std::size_t>(nb, 32); ++b) {
         if ((always >> b) & 1u) continue;
-        const double distance = (s.x[k] - s.walls[b].point0).dot(s.walls[b].normal);
+        const double distance = PlaneWall::signed_distance(s.walls[b].point0, s.walls[b].normal, s.x[k]);
         if (distance < s.radius[k] + skin) near |= 1u << b;
       }
       s.near_boundaries[k] = near;
@@ -584,7 +584,7 @@ struct FastEngine::Impl {
     };
     // One pass: each of `blocks` contiguous blocks of particles lists its partners (each
     // particle's sorted by id) into its own buffer, and the buffers are joined in block order
-    // (the list of a count pass and a fill pass, with half the distance tests: measured,
+    // (the list of a count pass and a fill pass, with half the distance tests;
     // docs/performance.md).
     const int blocks = n >= kParallelMin ? max_threads() : 1;
     search_buffers.resize(static_cast<std::size_t>(std::max(blocks, 1)));
@@ -676,8 +676,8 @@ struct FastEngine::Impl {
   /// Pair histories by partner id (both ranges ascending in id: a merge); boundary records
   /// follow their particle. A pair history whose partner is no longer in the list is lost.
   /// h is in the order before the cell sort: particle k's history is h's entry before[k]
-  /// (read in place: copying h into the new order first took 0.33-0.55M cycles of a
-  /// 10,000-particle build, docs/performance.md "The cell sort carries less").
+  /// (read in place: copying h into the new order first cost a pass over every history,
+  /// docs/performance.md "The cell sort carries less").
   void install_history(const History& h, const std::vector<std::uint32_t>& before) {
     const std::size_t n = s.owned;
     const int blocks = n >= kParallelMin ? max_threads() : 1;
@@ -857,9 +857,9 @@ struct FastEngine::Impl {
     // gather of its own) and the boundary records, the tables as rows of bytes. Sums in
     // construction order: independent of the cell sort (so of restarts), of the decomposition
     // and of the thread count. Untracked, the energies and the loads are gathered and summed
-    // when asked (the same rows in the same order, so the same bits): with every particle's
-    // 64-byte row gathered and summed at every step, a 2-rank step of the settling bed took
-    // 1.4x its cycles without (docs/performance.md "Threads cut across the longest axis").
+    // when asked (the same rows in the same order, so the same bits): gathering every
+    // particle's 64-byte row at every step is O(N) per rank (docs/performance.md "Two ranks
+    // untracked").
     struct TermRow {  // 64 bytes: construction index and the 7 terms
       std::uint32_t original, unused;
       double values[7];  // elastic, dissipated, work, power, kinetic, rotational, gravitational
@@ -943,7 +943,7 @@ struct FastEngine::Impl {
   /// A boundary record as sent between ranks (plain arrays: sent as bytes).
   struct Load {
     std::uint32_t original, boundary;
-    double force[3], point[3];
+    double force[3], point[3], rolling[3];
   };
 
   /// This rank's boundary records of the last evaluation, by construction index.
@@ -952,7 +952,8 @@ struct FastEngine::Impl {
     for (std::size_t r = 0; r < s.records.size(); ++r) {
       const BoundaryRecord& record = s.records[r];
       mine[r] = {s.original[record.particle], record.boundary, {record.force.x(), record.force.y(), record.force.z()},
-                 {record.point.x(), record.point.y(), record.point.z()}};
+                 {record.point.x(), record.point.y(), record.point.z()},
+                 {record.rolling.x(), record.rolling.y(), record.rolling.z()}};
     }
     return mine;
   }
@@ -969,24 +970,26 @@ struct FastEngine::Impl {
     });
     for (const Load& r : all_records) {
       add_load(block_loads.data() + r.original / kSumBlock * nb, r.boundary, Vec3(r.force[0], r.force[1], r.force[2]),
-               Vec3(r.point[0], r.point[1], r.point[2]));
+               Vec3(r.point[0], r.point[1], r.point[2]), Vec3(r.rolling[0], r.rolling[1], r.rolling[2]));
     }
     add_block_loads();
     loads_stale = false;
   }
 
   /// A record's load on its boundary: minus the contact force on the particle, its moment
-  /// about the origin [N, N m].
-  static void add_load(BoundaryLoad* block, std::uint32_t boundary, const Vec3& force, const Vec3& point) {
+  /// about the origin, minus the rolling torque on the particle [N, N m].
+  void add_load(BoundaryLoad* block, std::uint32_t boundary, const Vec3& force, const Vec3& point,
+                const Vec3& rolling) const {
     block[boundary].force -= force;
     block[boundary].moment_about_origin += point.cross(-force);
+    if (s.rolling) block[boundary].moment_about_origin -= rolling;
   }
 
   /// Adds minus the forces of particle k's boundary records to the loads `block` (one per
   /// boundary), in boundary order.
   void add_records(BoundaryLoad* block, std::size_t k) const {
     for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
-      add_load(block, s.records[r].boundary, s.records[r].force, s.records[r].point);
+      add_load(block, s.records[r].boundary, s.records[r].force, s.records[r].point, s.records[r].rolling);
     }
   }
 
@@ -1152,6 +1155,7 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   m.energy_balance = setup.energy_balance;
   m.s.gravity = setup.gravity;
   m.s.boundaries = setup.boundaries;
+  m.s.rolling = setup.rolling != RollingModel::kNone;
   m.s.walls.resize(setup.boundaries.size());
   m.s.is_wall.assign(setup.boundaries.size(), false);
   for (std::size_t b = 0; b < setup.boundaries.size(); ++b) {
@@ -1491,7 +1495,7 @@ void FastEngine::restore_state(const EngineState& state) {
       s.lower_codes_valid = false;
     };
     install(c.id_a, c.id_b, c.spring);
-    install(c.id_b, c.id_a, mirrored(c.spring));
+    install(c.id_b, c.id_a, c.spring.mirrored());
   }
   if (m.distributed()) misplaced = m.comm->max_over_ranks(misplaced ? 1.0 : 0.0) > 0.0;
   if (misplaced) throw InputError("restore_state: a contact history joins particles that are not neighbours");

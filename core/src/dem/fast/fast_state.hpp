@@ -51,6 +51,7 @@ struct BoundaryRecord {
   TangentialSpring spring;     ///< friction only
   Vec3 force = Vec3::Zero();   ///< contact force on the particle [N]
   Vec3 point = Vec3::Zero();   ///< contact point [m]
+  Vec3 rolling = Vec3::Zero(); ///< rolling torque on the particle (FastState::rolling) [N m]
 };
 
 /// One entry of a chunk's pair list (frictional kernels, force_kernel.cpp "Chunks"): a touching
@@ -105,20 +106,11 @@ inline void keep_deeper(std::optional<LargestOverlap>& deepest, const LargestOve
 /// (force_kernel.cpp, "Each pair once"): what both particles add to their sums.
 struct PairResult {
   Vec3 force = Vec3::Zero();     ///< on the evaluating particle i [N]; j receives -force
-  Vec3 torque_i = Vec3::Zero();  ///< r_i x force, torque on i [N m]
-  Vec3 torque_j = Vec3::Zero();  ///< r_j x force; j receives -torque_j (= its r x (-force)) [N m]
+  Vec3 torque_i = Vec3::Zero();  ///< r_i x force (+ M_roll), torque on i [N m]
+  /// r_j x force (+ M_roll); j receives -torque_j (= its r x (-force) - M_roll) [N m]
+  Vec3 torque_j = Vec3::Zero();
 };
 
-/// The other side's view of a pair history: bitwise what the partner's own evaluation stores
-/// (the update is odd in the normal and the displacements, even in the scalars).
-inline TangentialSpring mirrored(const TangentialSpring& s) {
-  TangentialSpring m;
-  m.displacement = -s.displacement;
-  m.stiffness = s.stiffness;
-  m.branch_i = s.branch_j;
-  m.branch_j = s.branch_i;
-  return m;
-}
 
 /// A planar wall, evaluated inline with PlaneWall's formulas (core/src/dem/plane_wall.cpp).
 struct WallData {
@@ -154,7 +146,7 @@ struct FastState {
   /// the last evaluation (they stay zero when the energies are not tracked), and (one rank, after a step's closing kick) the particle's kinetic,
   /// rotational and gravitational energy. The one-rank sums visit them in construction order,
   /// a random order in storage, so one line per particle instead of one per term or array
-  /// (measured: docs/performance.md "Sums from one line per particle").
+  /// (docs/performance.md "Sums from one line per particle").
   struct alignas(64) ParticleTerms {
     double elastic = 0.0;        ///< energy stored in its contacts [J]
     double dissipated = 0.0;     ///< dissipated this step [J]
@@ -260,6 +252,8 @@ struct FastState {
   /// over the particles may apply the closing kick there (close_kick below), right after each
   /// particle's sums, and then sets kick_closed; otherwise the engine applies it afterwards.
   bool closing_kick = false;
+  /// [contact] rolling is on: contacts add a rolling torque besides r x F (rolling_resistance.hpp)
+  bool rolling = false;
   bool kick_closed = false;
   /// close_kick writes each particle's motion energy terms (kinetic, rotational,
   /// gravitational) for the per-step sums; false when nothing sums them every step (one rank,
@@ -278,20 +272,9 @@ struct FastState {
 /// the reference's expressions (reference/src/dem/force_passes.hpp), so the same bits. The
 /// force kernel evaluates every pair with it (force_kernel.cpp; hertz_mindlin_x4.cpp lane by
 /// lane), and save_state writes a pair history's branch vectors with it (fast_engine.cpp).
-struct PairGeometry {
-  Vec3 normal;    ///< unit, from j towards i
-  double overlap;  ///< delta [m]
-  Vec3 r_i, r_j;  ///< centre of i (of j) to the contact point [m]
-};
+using PairGeometry = SpherePairGeometry;
 inline PairGeometry pair_geometry(const FastState& s, std::size_t i, std::size_t j, const Vec3& d) {
-  const double ri = s.radius[i];
-  const double distance = d.norm();
-  PairGeometry g;
-  g.normal = d / distance;
-  g.overlap = ri + s.radius[j] - distance;
-  g.r_i = -(ri - 0.5 * g.overlap) * g.normal;
-  g.r_j = (s.radius[j] - 0.5 * g.overlap) * g.normal;
-  return g;
+  return sphere_pair_geometry(d, s.radius[i], s.radius[j]);
 }
 
 inline constexpr std::uint32_t kNotHere = 0xffffffffu;  ///< `where` of a particle owned elsewhere
@@ -333,15 +316,14 @@ inline std::vector<double> timed_shares(std::size_t ranges, const std::vector<do
 /// Cuts the owned particles into `threads` contiguous ranges of about equal estimated work,
 /// in units of one idle neighbour slot: 8 per particle (integration, walls, stores), 1 per slot,
 /// 15 more per touching slot (a contact law evaluation; instruction ratios from callgrind of
-/// the 10,000-particle bench scene, 2026-12-01; weights 32, 48 and 96, which shift work towards
-/// the contact-free range, measured slower or equal on 2 threads). Only the speed depends on the cut: every particle's result is computed
+/// the bench scene, docs/performance.md). Only the speed depends on the cut: every particle's
+/// result is computed
 /// by one thread from its own data. The estimate uses the positions at the cut.
 inline void balance_split(FastState& s, int threads) {
   const std::size_t n = s.owned;
   const auto ranges = static_cast<std::size_t>(threads);
-  // Measured correction: the estimate misjudges parts of a scene (in the settling bed, 10,000
-  // particles on 2 threads, the range holding the floor took 1.3x the other's time during the
-  // fall, perf).
+  // Corrected by the measured times: the estimate misjudges parts of a scene (in the settling
+  // bed the range holding the floor is slower during the fall).
   const std::vector<double> share = timed_shares(ranges, s.range_share, s.range_seconds);
   s.thread_speeds.record(s.range_share, s.range_seconds);
   s.range_share = share;

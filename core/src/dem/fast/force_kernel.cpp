@@ -20,12 +20,9 @@
 // particle's closing kick (close_kick, fast_state.hpp) while f and t are in registers,
 // instead of a separate pass of the engine. Each pass writes only its own particles' data, so
 // neither needs atomics. A ghost partner's pair is evaluated from this side as before (the
-// ghost's own rank evaluates its side). Measured on the settled 10,000-particle bench bed
-// (docs/performance.md): 1.17x on one thread; writing the other side's mirrored history at
-// every evaluation instead made it 8 % slower than evaluating every pair twice (a scattered
-// 104-byte write per contact). Summing the own contacts in the first pass (so the second
-// reads only the lower-id half of the slots): 0.978-1.000 of the kernel's time, in one run
-// switching between both orders every 50 evaluations (docs/performance.md).
+// ghost's own rank evaluates its side). Why each pair once, and why the other side's history
+// is derived rather than written at every evaluation (a scattered write per contact):
+// docs/performance.md, "Kept optimisations".
 //
 // Chunks (frictional kernels). The first pass takes 64 particles at a time: it lists their
 // slots' touching pairs (and the contacts that ended, whose stored energy is lost) in slot
@@ -50,12 +47,6 @@
 
 namespace ppohdem::dem::fast {
 namespace {
-
-inline bool has_history(const TangentialSpring& s) {
-  return s.stiffness != 0.0 || s.branch_i.x() != 0.0 || s.branch_i.y() != 0.0 ||
-         s.branch_i.z() != 0.0 || s.displacement.x() != 0.0 || s.displacement.y() != 0.0 ||
-         s.displacement.z() != 0.0;
-}
 
 /// The result of the pair whose code is `code`; for kNoSpring the never-written zero result of
 /// pool 0's first entry (fast_state.hpp), so a slot without contact needs no test (GCC turns a
@@ -89,12 +80,12 @@ inline PairKinematics pair_kinematics(const FastState& s, std::size_t i, std::si
 
 // kEnergy false ([simulation] energy_balance = false): no contact energy terms at all (the
 // previous-arms displacement, elastic energy, the dissipation and boundary-work terms); the
-// forces, torques and histories are the same bit for bit (measured: 10 % of the settled bed).
+// forces, torques and histories are the same bit for bit (docs/performance.md).
 /// Particles per chunk of the frictional kernels' first pass (their pair lists stay in L1).
 constexpr std::size_t kChunk = 64;
-/// Evaluations between two cuts of the sum pass by its measured times: about 4 ms of that
-/// pass in the 10,000-particle bed on 2 threads, long enough for the clock (steady_clock, two
-/// reads per range and evaluation) and short next to how fast the bed's work moves.
+/// Evaluations between two cuts of the sum pass by its measured times: a few milliseconds of
+/// that pass in a bench-sized bed, long enough for the clock (steady_clock, two reads per range
+/// and evaluation) and short next to how fast the bed's work moves.
 constexpr unsigned kSumRecut = 20;
 
 template <class Law, bool kFriction, bool kWalls, bool kOthers, bool kMulti, bool kEnergy>
@@ -104,7 +95,8 @@ class Kernel final : public ForceKernel {
   static constexpr bool kX4 = std::is_same_v<Law, HertzMindlin> && kFriction && !kMulti;
 
   Kernel(const PairLaws<Law>& laws, bool vector_contacts)
-      : laws_(laws), law_(laws.pair(0, 0)), x4_(kX4 && vector_contacts && x4_contacts_available()) {}
+      : laws_(laws), law_(laws.pair(0, 0)),
+        x4_(kX4 && vector_contacts && x4_contacts_available() && !laws.any_rolling()) {}
 
   /// The contacts entries[contacts[k]], k < count, of a chunk (friction; `contacts` null: the
   /// entries 0 to count - 1): springs, pair results and the entries' energies and overlaps.
@@ -136,6 +128,10 @@ class Kernel final : public ForceKernel {
         k.relative_displacement_previous_arms =
             dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
       }
+      if (s.rolling) {  // rolling_resistance.hpp
+        k.relative_spin = s.pw[i] - s.pw[j];
+        k.relative_rotation = dt * (s.w[i] - s.w[j]);
+      }
       const ContactForce f = frictional_contact_force(pair_law(s, i, j), k, sp, dt);
       if constexpr (kEnergy) {  // their only use (save_state writes them from the positions)
         sp.branch_i = r_i;
@@ -143,8 +139,13 @@ class Kernel final : public ForceKernel {
       }
       PairResult& result = s.result_at(entry.code);
       result.force = f.on_i;
-      result.torque_i = r_i.cross(f.on_i);
-      result.torque_j = r_j.cross(f.on_i);
+      if (s.rolling) {  // the reference's sums (force_passes.hpp)
+        result.torque_i = r_i.cross(f.on_i) + f.rolling_torque;
+        result.torque_j = r_j.cross(f.on_i) + f.rolling_torque;
+      } else {
+        result.torque_i = r_i.cross(f.on_i);
+        result.torque_j = r_j.cross(f.on_i);
+      }
       entry.elastic = f.elastic_energy;
       entry.dissipated = f.dissipated;
       entry.overlap = k.overlap;
@@ -265,15 +266,12 @@ class Kernel final : public ForceKernel {
               bool touching = false;
               if (kWalls && s.is_wall[b]) {
                 const WallData& wall = s.walls[b];
-                const double distance = (xi - wall.point).dot(wall.normal);  // PlaneWall
+                const double distance = PlaneWall::signed_distance(wall.point, wall.normal, xi);
                 if (distance <= 0.0) {
                   escaped = true;
                 } else if (distance < ri) {
                   touching = true;
-                  c.normal = wall.normal;
-                  c.overlap = ri - distance;
-                  c.point = xi - distance * wall.normal;
-                  c.surface_velocity = wall.velocity;
+                  c = PlaneWall::touching(wall.normal, wall.velocity, xi, ri, distance);
                 }
               } else if constexpr (kOthers) {
                 const Boundary& boundary = *s.boundaries[b];
@@ -315,8 +313,13 @@ class Kernel final : public ForceKernel {
                 const Vec3 v_s = boundary_step_velocity(sp, continuing, c.surface_velocity);
                 k.relative_displacement = dt * (s.v[i] + s.w[i].cross(r_a) - v_s);
                 if constexpr (kEnergy) k.relative_displacement_previous_arms = dt * (s.v[i] + s.w[i].cross(sp.branch_i) - v_s);
+                if (s.rolling) {  // the boundary's spin is that of its material
+                  k.relative_spin = s.pw[i] - c.surface_spin;
+                  k.relative_rotation = dt * (s.w[i] - c.surface_spin);
+                }
                 f = frictional_contact_force(boundary_law(s, i, b), k, sp, dt);
                 sp.branch_i = r_a;
+                record.rolling = f.rolling_torque;
               } else {
                 f = normal_contact_force(boundary_law(s, i, b), k, dt);
               }
@@ -349,7 +352,7 @@ class Kernel final : public ForceKernel {
           s.f[i] = force;
           s.t[i] = torque;
         }
-        if constexpr (kEnergy) {  // else nothing sums them (they keep their zeros): 0.973-0.978 of the kernel
+        if constexpr (kEnergy) {  // else nothing sums them (they keep their zeros)
           FastState::ParticleTerms& terms = s.terms[i];
           terms.elastic = elastic;
           terms.dissipated = dissipated;
@@ -392,7 +395,7 @@ class Kernel final : public ForceKernel {
                   code = new_spring_with_result(range);  // a new contact: empty history
                 } else {  // ended: its stored energy is lost
                   const TangentialSpring& sp = s.spring_at(code);
-                  if (kEnergy && upper && has_history(sp)) {
+                  if (kEnergy && upper && sp.holds_history()) {
                     PairEntry& ended = entries[count++];
                     ended.kind = PairEntry::kEnded;
                     ended.dissipated = sp.stored_energy();
@@ -430,15 +433,15 @@ class Kernel final : public ForceKernel {
           }
           OwnSums sums{&out.deepest};
           // Untracked, no entry is an ended contact: the law reads the entries in order, without
-          // the index (0.979-0.980 of the kernel, docs/performance.md "Fewer loads and stores
-          // per contact and per particle").
+          // the index (docs/performance.md "Fewer loads and stores per contact and per
+          // particle").
           const bool summed = evaluate_contacts(s, entries, kEnergy ? contacts : nullptr, contact_count, dt, sums);
           pairs += sums.pairs;
           if (summed) {  // nothing left to book; the boundaries' forces are added in the sum pass
             for (std::size_t i = chunk; i < chunk_end; ++i) {
               // Near no boundary (most of a bed): nothing to visit, only its empty block of
-              // records to close (0.985 of the kernel, docs/performance.md "Fewer loads and
-              // stores per contact and per particle"). Without energies an old record needs no
+              // records to close (docs/performance.md "Fewer loads and stores per contact and
+              // per particle"). Without energies an old record needs no
               // visit.
               if (nb <= 32 && (s.near_boundaries[i] & near_mask) == 0) {
                 if constexpr (kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(out.records.size());
@@ -529,9 +532,8 @@ class Kernel final : public ForceKernel {
     // The new boundary records: the ranges' blocks in range order are in storage order, so the
     // table is their concatenation. Each range's block starts at the sum of the blocks before
     // it (`base`); one thread sizes the table (nowait: the sum pass reads the blocks, not the
-    // table, and its closing barrier orders this before the copies). Measured on the settling
-    // bed (2 threads): a single with its barrier, then the copies with theirs, before the sum
-    // pass cost 7.3k + 7.8k + 4.3k cycles a step (docs/performance.md "Fewer synchronisations
+    // table, and its closing barrier orders this before the copies). Why: each barrier costs
+    // a synchronisation of the threads every step (docs/performance.md "Fewer synchronisations
     // a step").
     if constexpr (kRecords) {
       if (ranges > 1) {
@@ -555,7 +557,7 @@ class Kernel final : public ForceKernel {
     // of the neighbour slots (its work is about the same per slot), corrected by the pass's
     // own measured times every kSumRecut evaluations (FastState::sum_share), while the first
     // pass's ranges are balanced by that pass's measured times alone, so that each barrier
-    // waits less (measured: docs/performance.md "Each pass its own cut" and "Two threads:
+    // waits less (docs/performance.md "Each pass its own cut" and "Two threads:
     // where the time goes").
     if constexpr (kHalf) {
       const std::size_t slots = s.first[n];
@@ -607,7 +609,11 @@ class Kernel final : public ForceKernel {
             if constexpr (kRecords) {
               for (const std::uint32_t end = s.next_record_first[i + 1]; record < end; ++record) {
                 force += records[record].force;
-                torque += (records[record].point - s.x[i]).cross(records[record].force);
+                if (s.rolling) {
+                  torque += (records[record].point - s.x[i]).cross(records[record].force) + records[record].rolling;
+                } else {
+                  torque += (records[record].point - s.x[i]).cross(records[record].force);
+                }
               }
             }
             s.f[i] = force;

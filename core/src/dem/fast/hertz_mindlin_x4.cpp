@@ -216,10 +216,10 @@ template <bool kEnergy>
     const V4 torque_j = cross(r_j, force);
     // Each lane's spring and result as rows of four consecutive doubles (the layouts checked
     // at the top of the file): four 32-byte stores and three scalar ones per contact instead of
-    // 19 scalar ones (measured: docs/performance.md, "What the law's stores cost"). The branch
-    // vectors only with kEnergy: nothing else reads them (save_state writes them from the
-    // positions); 0.972-0.976 of the kernel (docs/performance.md "Fewer loads and stores per
-    // contact and per particle"). The entry's overlap only for the booking.
+    // 19 scalar ones (docs/performance.md, "What the law's stores cost"). The branch vectors
+    // only with kEnergy: nothing else reads them (save_state writes them from the positions;
+    // docs/performance.md "Fewer loads and stores per contact and per particle"). The entry's
+    // overlap only for the booking.
     D4 rows[4];
     transpose(xi_new.x, xi_new.y, xi_new.z, k_t, rows);  // displacement, stiffness
     for (int l = 0; l < 4; ++l) store4(spring[l]->displacement.data(), rows[l]);

@@ -9,8 +9,8 @@
 //
 // Why by hand: the contact law is branch-free apart from three selections (f_n > 0, a nonzero
 // tangential projection, Coulomb slip), which become lane masks; GCC does not vectorize across
-// the contacts of a gathered list by itself. Measured on the 10,000-particle settled bed: see
-// docs/performance.md "Four contacts at a time".
+// the contacts of a gathered list by itself. The figures: docs/performance.md "Four contacts
+// at a time".
 #include "fast_state.hpp"
 #include "ppohdem/dem/contact_law.hpp"
 

@@ -6,9 +6,8 @@
 // keep the same members (tested: near_members_test.cpp).
 //
 // Why by hand: the test is a few flops per candidate followed by a compaction of the kept ones,
-// which GCC does not vectorize by itself; the candidates' visit was about 2.5 % of a run on
-// the settled 10,000-particle bench bed (docs/performance.md "Cheaper list builds, second
-// pass").
+// which GCC does not vectorize by itself (its share of a run: docs/performance.md "Cheaper
+// list builds, second pass").
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -17,7 +17,7 @@ class Packer {
  public:
   explicit Packer(Bytes& out) : out_(out) {}
   /// `count` trivially copyable records in one copy (a per-particle table: one insert instead of
-  /// one per value, which took 8 % of a 2-rank step).
+  /// one per value, docs/performance.md "Two ranks untracked").
   template <class T>
   void put_rows(const T* rows, std::size_t count) {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -34,11 +34,7 @@ class Packer {
       raw(&value, sizeof value);
     } else {
       static_assert(std::is_same_v<T, TangentialSpring>, "Packer: no rule for this type");
-      put(value.displacement);
-      put(value.stiffness);
-      put(value.branch_i);
-      put(value.branch_j);
-      put(value.surface_velocity);
+      TangentialSpring::for_each_field(value, [this](const auto& field) { put(field); });
     }
   }
 
@@ -72,11 +68,7 @@ class Unpacker {
       raw(&value, sizeof value);
     } else {
       static_assert(std::is_same_v<T, TangentialSpring>, "Unpacker: no rule for this type");
-      get(value.displacement);
-      get(value.stiffness);
-      get(value.branch_i);
-      get(value.branch_j);
-      get(value.surface_velocity);
+      TangentialSpring::for_each_field(value, [this](auto& field) { get(field); });
     }
   }
   template <class T>
