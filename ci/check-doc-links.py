@@ -11,6 +11,7 @@ A citation is "docs/<file>.md" (it must exist), optionally followed by section n
   docs/performance.md "Four contacts at a time"
   docs/performance.md, "What the law's stores cost"      (also: , section "X"; "X" and "Y")
   docs/compat.md §2                                       (a numbered heading "## 2. ...")
+  [text](docs/performance.md#dem-engine-issue-7)          (GitHub's anchor of a heading)
 A quoted name must be a section of that file: a Markdown heading, or a bold lead that opens a
 paragraph or list item ("**Cost.** The checks ..."), compared with case and spacing ignored,
 emphasis and code marks and a leading section number dropped; a name may also be the start of
@@ -34,11 +35,11 @@ CONTINUATION = re.compile(r"[ \t]*\n[ \t]*(?:(?://+|/\*+|\*+|#+|!+|--)[ \t]*)?")
 QUOTE = r'\\?["\u201c\u201d]'
 TITLE = QUOTE + r'([^"\u201c\u201d\\\n]{1,200})' + QUOTE
 CITATION = re.compile(
-    r"docs/([A-Za-z0-9_.-]+\.md)"
+    r"docs/(?P<doc>[A-Za-z0-9_.-]+\.md)(?:#(?P<anchor>[A-Za-z0-9_-]+))?"
     r"(?:"
-    r"(?:,?\s+(?:sections?\s+)?|,\s*(?:sections?\s+)?)" + TITLE +
-    r"((?:\s*(?:,|and|or|,\s*and)\s*" + TITLE + r")*)"
-    r"|\s*,?\s*\u00a7\s*(\d+(?:\.\d+)*)"
+    r"(?:,?\s+(?:sections?\s+)?|,\s*(?:sections?\s+)?)" + TITLE.replace("(", "(?P<title>", 1) +
+    r"(?P<more>(?:\s*(?:,|and|or|,\s*and)\s*" + TITLE.replace("(", "(?:", 1) + r")*)"
+    r"|\s*,?\s*\u00a7\s*(?P<number>\d+(?:\.\d+)*)"
     r")?")
 FOLLOWING_TITLE = re.compile(TITLE)
 
@@ -52,6 +53,26 @@ def normalise(title):
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
 BOLD_LEAD = re.compile(r"^\s*(?:[-*+]\s+|\d+\.\s+)?\*\*([^*]+?)\*\*")
 SECTION_NUMBER = re.compile(r"^\d+(?:\.\d+)*[a-z]?\.?\s+")
+
+
+def anchor_of(heading):
+    """GitHub's anchor of a Markdown heading: lower case, punctuation dropped, spaces to '-'."""
+    a = heading.strip().lower()
+    a = re.sub(r"[^\w\- ]", "", a)
+    return a.replace(" ", "-")
+
+
+def anchors_of(path):
+    found, fenced = set(), False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if line.lstrip().startswith("```"):
+                fenced = not fenced
+                continue
+            m = None if fenced else HEADING.match(line)
+            if m:
+                found.add(anchor_of(m.group(2)))
+    return found
 
 
 def headings_of(path):
@@ -133,10 +154,10 @@ def citations_in(path):
     text = "".join(joined_parts)
     for m in CITATION.finditer(text):
         titles = []
-        if m.group(2):
-            titles.append(m.group(2))
-            titles.extend(FOLLOWING_TITLE.findall(m.group(3) or ""))
-        yield line_of[m.start()], m.group(1), titles, m.group(5)
+        if m.group("title"):
+            titles.append(m.group("title"))
+            titles.extend(FOLLOWING_TITLE.findall(m.group("more") or ""))
+        yield line_of[m.start()], m.group("doc"), m.group("anchor"), titles, m.group("number")
 
 
 def check(root, listing=False, out=sys.stdout):
@@ -145,13 +166,14 @@ def check(root, listing=False, out=sys.stdout):
         rel = os.path.relpath(path, root)
         if rel == os.path.join("ci", "check-doc-links.py"):
             continue  # its own examples
-        for line, doc, titles, number in citations_in(path):
+        for line, doc, anchor, titles, number in citations_in(path):
             count += 1
             doc_path = os.path.join(root, "docs", doc)
             where = "%s:%d" % (rel, line)
             if listing:
                 shown = "; ".join('"%s"' % t for t in titles) + (" §" + number if number else "")
-                print("%s: docs/%s %s" % (where, doc, shown), file=out)
+                print("%s: docs/%s%s %s" % (where, doc, "#" + anchor if anchor else "", shown),
+                      file=out)
             if not os.path.isfile(doc_path):
                 problems.append("%s: docs/%s does not exist" % (where, doc))
                 continue
@@ -162,6 +184,8 @@ def check(root, listing=False, out=sys.stdout):
                     problems.append('%s: docs/%s has no section "%s"' % (where, doc, t))
             if number and not number_exists(number, heading_cache[doc]):
                 problems.append("%s: docs/%s has no section §%s" % (where, doc, number))
+            if anchor and anchor not in anchors_of(doc_path):
+                problems.append("%s: docs/%s has no heading with anchor #%s" % (where, doc, anchor))
     for p in problems:
         print("check-doc-links: " + p, file=out)
     print("check-doc-links: %d citations, %d broken" % (count, len(problems)), file=out)
@@ -177,6 +201,7 @@ def self_test():
                       '// docs/a.md, section "Second part"; docs/a.md, findings 4-6\n',
         "ci/y.sh": 'echo "docs/a.md \\"four contacts at a time\\""\n',
         "tests/z.cpp": '// docs/a.md, "Equal particles"\n',
+        "README.md": "[a](docs/a.md#four-contacts-at-a-time-avx) [b](docs/a.md#2-second-part)\n",
     }
     broken = [
         ("core/b.cpp", "// docs/missing.md\n"),
@@ -185,6 +210,7 @@ def self_test():
         ("core/b.cpp", "// docs/a.md §3\n"),
         ("core/b.cpp", '// docs/a.md "not a heading"\n'),            # inside a code fence
         ("core/b.cpp", '// docs/a.md "One sentence"\n'),             # not bold
+        ("README.md", "[a](docs/a.md#four-contacts)\n"),             # no such anchor
     ]
 
     def make(files):
