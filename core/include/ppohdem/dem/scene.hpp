@@ -3,7 +3,8 @@
 /// Scene files (TOML). Every key, with units; keys not listed are errors that name the key.
 ///
 ///   [simulation] dt [s], steps, gravity = [gx, gy, gz] [m/s^2], energy_balance = true (false:
-///                no contact energy book-keeping, 10 % faster in the fast engine; the three
+///                no contact energy book-keeping, which the fast engine then skips
+///                (docs/performance.md "Energy book-keeping optional"); the three
 ///                contact terms of energy.csv are nan and the energy check is off)
 ///   [material]   density [kg/m^3], young [Pa], poisson, restitution, friction, name
 ///                (optional, default "default"): the scene's one material; OR
