@@ -38,7 +38,7 @@
 ///                       displacement times the mean spring force)              [J]
 /// (The rectangle forms k'(|xi_tr|^2 - |xi'|^2)/2 and (k' - k)|xi~|^2/2 differ from these by
 /// k'|ds_t|^2/2 and (k' - k) xi~.ds_t/2 per step: first order in dt in total, which is what
-/// made the balance drift by 6% in a slowly sliding pile.)
+/// made the balance drift in a slowly sliding pile: docs/dem.md "Energy balance".)
 /// In total:
 ///   elastic     U_n(delta) + k' |xi'|^2 / 2                                      [J]
 ///   dissipated  (F_n - F_n,elastic) delta_dot dt   (dashpot with the predicted v(n+1),
@@ -67,7 +67,7 @@
 /// second order. Taking v_s(n+1) dt for d_s and F(n+1).v_s(n+1) dt for all of W (the
 /// rectangle rule) leaves sum_n (F(n+1) - F(n)).v_s(n+1) dt / 2, which telescopes for a
 /// translating wall but is FIRST order on a rotating surface, where v_s at the moving contact
-/// point changes (docs/objects.md: 3.6e-5 relative at dt = 1e-7 s before the change).
+/// point changes (docs/objects.md "Power balance").
 #include "ppohdem/dem/contact_law.hpp"
 #include "ppohdem/dem/rolling_resistance.hpp"
 #include "ppohdem/geometry/vector.hpp"

@@ -362,7 +362,7 @@ struct FastEngine::Impl {
   /// The halo plan applied: the moving fields of the ghosts from their owners. A message holds
   /// the moving arrays one after the other (all the x, then all the v, ...), sized once and
   /// copied value by value without a Packer (appending value by value was a large share of a
-  /// 2-rank step: docs/performance.md "Two ranks untracked").
+  /// 2-rank step: docs/performance.md "Ranks gather once per evaluation").
   void refresh_ghosts() {
     if (!distributed()) return;
     static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 array is a plain array of doubles");
@@ -476,9 +476,8 @@ struct FastEngine::Impl {
     // set from x below, and the energy terms are the last evaluation's outputs, which this
     // step's evaluation (after the build) writes afresh for every owned particle before any
     // sum reads them (force_kernel.cpp, close_kick). They are zeroed (what untracked terms
-    // hold) rather than moved: moving their 64-byte records, through a new vector zero-filled
-    // on one thread, was about a third of the sort's time on 2 threads (docs/performance.md
-    // "The cell sort carries less").
+    // hold) rather than moved: moving their 64-byte records through a new vector zero-filled
+    // on one thread is a serial pass (docs/performance.md "The cell sort carries less").
     for_each_particle_array(s, [&](auto& a) {
       using Array = std::decay_t<decltype(a)>;
       if constexpr (std::is_same_v<Array, std::vector<FastState::ParticleTerms>>) {
@@ -595,8 +594,7 @@ struct FastEngine::Impl {
       // The block's list in a vector object of this thread's own (its storage the reused
       // buffer's): the vector objects of search_buffers share a cache line, and every push_back
       // writes the vector's end, so appending through them bounced that line between the
-      // threads (the search's parallel part took 0.92 of its 1-thread time on 2 threads:
-      // docs/performance.md "Cheaper list builds, second pass").
+      // threads (docs/performance.md "Cheaper list builds, second pass").
       std::vector<std::uint32_t> found;
       found.swap(search_buffers[static_cast<std::size_t>(b)]);
       found.clear();
@@ -740,7 +738,7 @@ struct FastEngine::Impl {
       const std::uint32_t next = block_first[static_cast<std::size_t>(blocks)];
       // Pool 0 reuses the last layout's storage (the ranges' pools go: lay_out_springs adds them
       // empty): entries 1 to next - 1 are all written below, entry 0 is kNoSpring's empty one.
-      // A fresh zeroed pool, copied in, cost about as much as the rest of this function
+      // A fresh zeroed pool, copied in, would zero and copy every spring again
       // (docs/performance.md "Cheaper list builds, second pass").
       s.spring_pools.resize(1);
       s.pool_shift = 31;
@@ -858,8 +856,8 @@ struct FastEngine::Impl {
     // construction order: independent of the cell sort (so of restarts), of the decomposition
     // and of the thread count. Untracked, the energies and the loads are gathered and summed
     // when asked (the same rows in the same order, so the same bits): gathering every
-    // particle's 64-byte row at every step is O(N) per rank (docs/performance.md "Two ranks
-    // untracked").
+    // particle's 64-byte row at every step is O(N) per rank (docs/performance.md "Ranks gather
+    // only what is asked, untracked").
     struct TermRow {  // 64 bytes: construction index and the 7 terms
       std::uint32_t original, unused;
       double values[7];  // elastic, dissipated, work, power, kinetic, rotational, gravitational

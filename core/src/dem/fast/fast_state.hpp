@@ -172,8 +172,8 @@ struct FastState {
   /// books the energy of; the slots before it hold the lower-id partners, whose owned ones
   /// evaluate the pair, while a lower-id ghost's pair is evaluated here too, force only).
   /// The kernels loop over the two parts separately instead of testing each slot's
-  /// side: the test is a coin toss for the branch predictor (callgrind --branch-sim: about
-  /// 3.3 of the kernel's 11 mispredicted branches per particle in the settled bench bed).
+  /// side: the test is a coin toss for the branch predictor (docs/performance.md "Fewer
+  /// mispredicted branches").
   std::vector<std::uint32_t> upper_first;
   // --- friction only: the tangential history of each slot that has one; for a partner that is
   // owned too, only the lower-id side's slot has it (the other side's code stays kNoSpring).
@@ -182,7 +182,7 @@ struct FastState {
   // force loop's range r (FastState::split) sees begin between builds (only the thread running
   // range r appends to it or reads the slots of its particles, so the loop needs no lock; the
   // ranges move only when the pools are laid out afresh). Most slots of a Verlet list are not touching (about
-  // 4 of 7 in a settled bed), so this keeps 4 instead of 104 bytes per idle slot. ---
+  // 4 of 7 in a settled bed), so this keeps 4 bytes instead of a spring per idle slot. ---
   std::vector<std::uint32_t> spring_of;  ///< per slot: kNoSpring or (pool << pool_shift) | index
   std::vector<std::vector<TangentialSpring>> spring_pools;
   unsigned pool_shift = 31;  ///< bits of the index part of a code

@@ -17,7 +17,7 @@ class Packer {
  public:
   explicit Packer(Bytes& out) : out_(out) {}
   /// `count` trivially copyable records in one copy (a per-particle table: one insert instead of
-  /// one per value, docs/performance.md "Two ranks untracked").
+  /// one per value, docs/performance.md "Ranks gather once per evaluation").
   template <class T>
   void put_rows(const T* rows, std::size_t count) {
     static_assert(std::is_trivially_copyable_v<T>);
