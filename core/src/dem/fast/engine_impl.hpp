@@ -1,0 +1,361 @@
+#pragma once
+// The fast engine's state and its concepts, one file each (docs/dem.md "Optimized engine"):
+//   migrate.cpp             particles to the ranks that own them (the migrate plan)
+//   halo.cpp                ghosts: the halo plan built at a list build, applied every step
+//   cell_sort.cpp           the owned particles sorted by cell
+//   neighbour_list.cpp      Verlet lists, mirror links, boundaries near each particle
+//   history_carry_over.cpp  contact histories carried across a list build (and ranks)
+//   global_sums.cpp         sums over particles in construction order (energies, loads)
+//   step.cpp                one time step: kicks, drift, list builds, force evaluation
+//   fast_checkpoint.cpp     save_state / restore_state
+//   fast_engine.cpp         the DemEngine interface
+// The force kernel is force_kernel.cpp (with hertz_mindlin_x4.cpp), the per-particle arrays
+// fast_state.hpp. Shared by those files only: not installed.
+#include "ppohdem/dem/fast/fast_engine.hpp"
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <tuple>
+#include <type_traits>
+#include <unordered_map>
+#include "decomposition.hpp"
+#include "fast_state.hpp"
+#include "hertz_mindlin_x4.hpp"
+#include "near_members.hpp"
+#include "pack.hpp"
+#include "ppohdem/dem/cell_grid.hpp"
+#include "ppohdem/dem/ordered_sum.hpp"
+#include "ppohdem/dem/pair_laws.hpp"
+#include "ppohdem/error.hpp"
+
+namespace ppohdem::dem::fast {
+
+using Grid = CellGrid;  // ppohdem/dem/cell_grid.hpp (shared with the reference's cell list)
+
+/// The cells of the sort and the search: the longest axis varies slowest, so the threads'
+/// ranges of the cell order are cut across it (cell_grid.hpp, with_longest_axis_slowest).
+inline Grid grid_for(const std::vector<Vec3>& x, double min_cell) { return with_longest_axis_slowest(cell_grid_for(x, min_cell)); }
+
+/// a := (a[order[0]], a[order[1]], ...); order may be shorter than a (a selection).
+template <class T>
+void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
+  std::vector<T> b(order.size());
+  PPOHDEM_OMP(omp parallel for schedule(static) if (order.size() >= kParallelMin))
+  for (std::size_t k = 0; k < order.size(); ++k) b[k] = a[order[k]];
+  a.swap(b);
+}
+
+/// ordered_sum.hpp's sum of term(0) .. term(n-1) with its blocks summed on the OpenMP threads:
+/// the same bits as the serial ordered_sum for any thread count.
+template <std::size_t K, class Term>
+std::array<double, K> parallel_ordered_sum(std::size_t n, const Term& term) {
+  std::vector<std::array<double, K>> blocks(sum_blocks(n));
+  const std::size_t count = blocks.size();
+  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+  for (std::size_t b = 0; b < count; ++b) {
+    blocks[b] = sum_range<K>(b * kSumBlock, std::min(n, (b + 1) * kSumBlock), term);
+  }
+  return add_blocks(blocks);
+}
+
+/// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
+
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+/// The contact history an owned particle carries across a list build (and to another rank):
+/// its side of every pair history keyed by the partner's global id (ascending), and its
+/// boundary records (ascending boundary). CSR over the owned particles in storage order.
+struct History {
+  std::vector<std::uint32_t> first{0};
+  std::vector<std::int64_t> partner_id;
+  std::vector<TangentialSpring> spring;
+  std::vector<std::uint32_t> record_first{0};
+  std::vector<BoundaryRecord> records;  ///< .particle is not used here
+
+  void append_from(const History& h, std::size_t k) {
+    for (std::uint32_t a = h.first[k]; a < h.first[k + 1]; ++a) {
+      partner_id.push_back(h.partner_id[a]);
+      spring.push_back(h.spring[a]);
+    }
+    first.push_back(static_cast<std::uint32_t>(partner_id.size()));
+    for (std::uint32_t a = h.record_first[k]; a < h.record_first[k + 1]; ++a) records.push_back(h.records[a]);
+    record_first.push_back(static_cast<std::uint32_t>(records.size()));
+  }
+  void pack(Packer& p, std::size_t k) const {
+    p.put(first[k + 1] - first[k]);
+    for (std::uint32_t a = first[k]; a < first[k + 1]; ++a) {
+      p.put(partner_id[a]);
+      p.put(spring[a]);
+    }
+    p.put(record_first[k + 1] - record_first[k]);
+    for (std::uint32_t a = record_first[k]; a < record_first[k + 1]; ++a) {
+      p.put(records[a].boundary);
+      p.put(records[a].spring);
+      p.put(records[a].force);
+      p.put(records[a].point);
+      p.put(records[a].rolling);
+    }
+  }
+  void unpack_append(Unpacker& u) {
+    const auto springs = u.get<std::uint32_t>();
+    for (std::uint32_t a = 0; a < springs; ++a) {
+      partner_id.push_back(u.get<std::int64_t>());
+      spring.push_back(u.get<TangentialSpring>());
+    }
+    first.push_back(static_cast<std::uint32_t>(partner_id.size()));
+    const auto count = u.get<std::uint32_t>();
+    for (std::uint32_t a = 0; a < count; ++a) {
+      BoundaryRecord r;
+      u.get(r.boundary);
+      u.get(r.spring);
+      u.get(r.force);
+      u.get(r.point);
+      u.get(r.rolling);
+      records.push_back(r);
+    }
+    record_first.push_back(static_cast<std::uint32_t>(records.size()));
+  }
+};
+
+inline void pack_particle(Packer& p, FastState& s, std::size_t k) {
+  for_each_particle_array(s, [&](auto& a) { p.put(a[k]); });
+}
+inline void unpack_particle(Unpacker& u, FastState& s) {
+  for_each_particle_array(s, [&](auto& a) {
+    a.emplace_back();
+    u.get(a.back());
+  });
+}
+
+struct FastEngine::Impl {
+  FastState s;
+  std::unique_ptr<ForceKernel> kernel;
+  std::vector<Material> materials;  ///< material k of the scene (SimulationSetup::material_at), for restore_state
+  SerialComm serial;
+  const Comm* comm = &serial;
+  Decomposition decomposition;
+  std::size_t total = 0;  ///< particles of the whole system
+  double skin = 0.0;      ///< [m]
+  double r_max = 0.0;     ///< [m], over the whole system
+  long steps = 0;
+  long builds = 0;
+  double elastic = 0.0;
+  double dissipated = 0.0;
+  double boundary_work = 0.0;
+  double power = 0.0;  ///< P(n) of the last evaluation [W]
+  /// SimulationSetup::energy_balance; false: the four accumulators above stay zero (the kernel
+  /// computes no energy terms) and energies() reports the contact terms as NaN.
+  bool energy_balance = true;
+  mutable std::vector<BoundaryLoad> loads;
+  /// `loads` is not yet the last evaluation's (lazy_sums(), or several ranks with the
+  /// energies untracked): boundary_loads() sums them.
+  mutable bool loads_stale = false;
+  std::size_t escaped = 0;  ///< whole system (not kept up to date when lazy_sums())
+  /// Several ranks: every rank's close_kick screen was finite at the last evaluation.
+  bool screens_finite = true;
+  mutable Particles out;  ///< particles() in construction order (whole system)
+  mutable bool out_valid = false;
+  // Halo plan (built at every list build, applied after every drift): send[r] = storage indices
+  // of the owned particles that rank r holds as ghosts, in the order they are packed; recv[r] =
+  // how many ghosts came from rank r (stored contiguously after the owned ones, by rank).
+  std::vector<std::vector<std::uint32_t>> halo_send;
+  std::vector<std::uint32_t> halo_recv;
+  /// Histories dropped at the last list build: (construction index, partner id, energy) [J].
+  std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
+
+  bool distributed() const { return comm->size() > 1; }
+  /// One rank without energy tracking: no sum over the particles runs every step. The
+  /// kinetic, rotational and gravitational energies, the boundary loads and the escaped count
+  /// are summed when asked (the same terms in the same order, so the same bits), and the run
+  /// checks screen the motion with close_kick's screen (motion_finite). Why: a per-step sum is
+  /// a pass over every particle that nothing reads (docs/performance.md).
+  bool lazy_sums() const { return !energy_balance && !distributed(); }
+  /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
+  bool kick_cached = false;
+  /// One rank: (kinetic, rotational, gravitational) energy of the state after the last step,
+  /// summed in the evaluation's pass (reduce_one_rank); invalid after a (re)load.
+  std::array<double, 3> motion_sums{};
+  bool motion_valid = false;
+  std::vector<std::array<double, 7>> block_sums;  ///< reduce_one_rank's per-block partial sums
+  mutable std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
+  std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
+  ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
+  /// A list build's histories (build_lists): kept between builds so that their storage is
+  /// reused, not allocated and zeroed afresh (docs/performance.md "Cheaper list builds, second
+  /// pass"). They stay in the order before the
+  /// cell sort: install_history reads them through the sort's order.
+  History history;
+  std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
+
+  /// Keeps the particles this rank owns (all of them on one rank).
+  void load_particles(const Particles& particles);
+
+  /// h := what the owned particles carry across the build (History); h's storage is reused.
+  void take_history(History& h) const;
+
+  /// Migration (the migrate plan: each owned particle's new owner from its centre) with its
+  /// history; arrivals are appended in rank order.
+  void migrate(History& h);
+
+  /// Ghosts (the halo plan): every owned particle whose centre is within the interaction
+  /// range 2 R_max + skin of rank r's brick goes to rank r with all its fields.
+  void make_ghosts();
+
+  /// The halo plan applied: the moving fields of the ghosts from their owners. A message holds
+  /// the moving arrays one after the other (all the x, then all the v, ...), sized once and
+  /// copied value by value without a Packer (appending value by value was a large share of a
+  /// 2-rank step: docs/performance.md "Ranks gather once per evaluation").
+  void refresh_ghosts();
+
+  /// A list build: migration (several ranks), sort of the owned particles by cell, ghosts,
+  /// then the full neighbour list of the owned particles (pairs closer than R_i + R_j + skin,
+  /// each particle's partners in ascending id) and the histories carried over by partner id.
+  /// Collective: every rank builds at the same step (the decision is global).
+  void build_lists();
+
+  /// FastState::near_boundaries at a list build. Until the next build every owned particle
+  /// stays within skin / 2 of x_build (the rebuild rule), so its distance to a fixed plane
+  /// wall changes by at most skin / 2: a wall farther than R + skin now stays farther than
+  /// R + skin / 2 > R (no contact) and > 0 (not crossed). The margin skin / 2 covers the
+  /// rounding of the distance many times over.
+  void mark_near_boundaries();
+
+  /// The cells of a cell sort: its grid, start[c] the first (sorted) index in cell c
+  /// (start[c + 1] the end), and order[k] the index before the sort of the particle now at k.
+  struct CellOrder {
+    Grid grid;
+    std::vector<std::uint32_t> start;
+    std::vector<std::uint32_t> order;
+  };
+
+  /// Sorts the owned particles by cell (stable); returns the grid, the cells' starts and the
+  /// order (empty if there are no owned particles).
+  CellOrder sort_owned_by_cell();
+
+  /// Neighbour search over owned + ghost particles for the owned ones, each particle
+  /// independently. `sorted`: the cell order all of them are in already, if they are (one
+  /// rank, after the cell sort), else made here.
+  void search_neighbours(const CellOrder* sorted);
+
+  /// FastState::mirror (frictional scenes; without history every contact is evaluated from
+  /// both sides): for each slot of an owned partner j, the slot of this particle in j's list.
+  /// The lists are symmetric between owned particles (the same reach and distance decide
+  /// both), and each is sorted by id, so one binary search per pair, from its lower-id side i
+  /// in the lower-id part of j's list, links both slots (half the searches of one per slot:
+  /// docs/performance.md "Cheaper list builds, second pass"). Symmetry check: every upper slot
+  /// finds its pair, and as many lower slots are linked as there are lower slots of owned
+  /// partners (distinct pairs link distinct slots, so all of them).
+  void link_mirrors();
+
+  /// Pair histories by partner id (both ranges ascending in id: a merge); boundary records
+  /// follow their particle. A pair history whose partner is no longer in the list is lost.
+  /// h is in the order before the cell sort: particle k's history is h's entry before[k]
+  /// (read in place: copying h into the new order first cost a pass over every history,
+  /// docs/performance.md "The cell sort carries less").
+  void install_history(const History& h, const std::vector<std::uint32_t>& before);
+
+  /// A history dropped from the list (the pair moved apart by more than the skin within one
+  /// step): its stored energy is dissipated, booked once (lower id side).
+  void lost(std::vector<std::tuple<std::uint32_t, std::int64_t, double>>& to, const TangentialSpring& spring,
+            std::size_t k, std::int64_t other) const {
+    if (s.id[k] < other) to.emplace_back(s.original[k], other, spring.stored_energy());
+  }
+
+  /// The lost energies of this build, added in construction order (then partner id) on every
+  /// rank: independent of the decomposition and of the cell order.
+  void add_lost_energy();
+
+  /// Per-particle terms of the WHOLE system in construction order, on every rank:
+  /// out[o * columns + c] = column c of particle o, filled by term(k, row) for owned k.
+  template <class Term>
+  std::vector<double> global_columns(std::size_t columns, Term term) const {
+    std::vector<double> all(total * columns, 0.0);
+    if (!distributed()) {
+      for (std::size_t k = 0; k < s.owned; ++k) term(k, &all[s.original[k] * columns]);
+      return all;
+    }
+    Bytes mine;
+    Packer p(mine);
+    std::vector<double> row(columns);
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      term(k, row.data());
+      p.put(s.original[k]);
+      for (const double v : row) p.put(v);
+    }
+    for (const Bytes& block : comm->allgather(mine)) {
+      Unpacker u(block);
+      while (!u.done()) {
+        const auto o = u.get<std::uint32_t>();
+        for (std::size_t c = 0; c < columns; ++c) u.get(all[o * columns + c]);
+      }
+    }
+    return all;
+  }
+
+  /// A force evaluation and the sums over particles. `closing_kick` (a step): the second half
+  /// kick runs between the kernel and the sums, and with one rank the kinetic, rotational and
+  /// gravitational sums of the new state come out of the same pass (cached for energies()).
+  void evaluate_forces(double history_dt, bool closing_kick = false);
+
+  /// A boundary record as sent between ranks (plain arrays: sent as bytes).
+  struct Load {
+    std::uint32_t original, boundary;
+    double force[3], point[3], rolling[3];
+  };
+
+  /// This rank's boundary records of the last evaluation, by construction index.
+  std::vector<Load> own_loads() const;
+
+  /// Boundary loads from every rank's records: minus the records' forces, in (construction
+  /// index, boundary) order grouped in the blocks of construction indices of ordered_sum.hpp
+  /// (each block from zero, then the blocks in order): the same bits for one rank (blocks on
+  /// the threads, sum_loads) and several (the gathered records sorted).
+  void add_gathered_loads(std::vector<Load>& all_records) const;
+
+  /// A record's load on its boundary: minus the contact force on the particle, its moment
+  /// about the origin, minus the rolling torque on the particle [N, N m].
+  void add_load(BoundaryLoad* block, std::uint32_t boundary, const Vec3& force, const Vec3& point,
+                const Vec3& rolling) const;
+
+  /// Adds minus the forces of particle k's boundary records to the loads `block` (one per
+  /// boundary), in boundary order.
+  void add_records(BoundaryLoad* block, std::size_t k) const;
+
+  /// Owned particles that have crossed a boundary (one rank: all of them).
+  std::size_t count_escaped() const;
+
+  /// The loads of the last evaluation when they were not summed with it: one rank
+  /// (lazy_sums()) as reduce_one_rank sums them; several ranks with the energies untracked
+  /// gathered as evaluate_forces gathers them when tracked (collective).
+  void sum_loads() const;
+
+  /// loads = the blocks' loads (block_loads, blocks x boundaries) added in block order from zero.
+  void add_block_loads() const;
+
+  /// The contact energy terms of one evaluation added to the accumulators.
+  void add_contact_sums(const std::array<double, 4>& sums, double history_dt);
+
+  /// One rank: every sum over particles in ONE pass over the blocks of construction indices of
+  /// ordered_sum.hpp (the blocks on the threads): the four contact energy terms, the escaped
+  /// count, the boundary loads (minus the records' forces, in (construction index, boundary)
+  /// order within a block) and, after a closing kick, the kinetic, rotational and
+  /// gravitational energies. Each sum is the one the separate ordered sums would give, bit for
+  /// bit (the same terms in the same order); one pass reads each particle once instead of
+  /// three or four times.
+  void reduce_one_rank(double history_dt, bool motion);
+
+  /// The second half kick of every owned particle (close_kick, fast_state.hpp) unless the
+  /// kernel's sum pass applied it; the next step's first half kick reuses it.
+  void close_step();
+
+  void step();
+};
+
+}  // namespace ppohdem::dem::fast
