@@ -138,7 +138,8 @@ TEST(CheckpointFormat, RoundTripKeepsEveryBit) {
 TEST(CheckpointFormat, LayoutIsLittleEndianWithMagicVersionAndBuild) {
   const std::vector<std::uint8_t> b = encode_checkpoint(sample());
   EXPECT_EQ(std::string(b.begin(), b.begin() + 8), "PPOHDEMC");
-  EXPECT_EQ(std::vector<std::uint8_t>(b.begin() + 8, b.begin() + 12), (std::vector<std::uint8_t>{2, 0, 0, 0}));
+  EXPECT_EQ(std::vector<std::uint8_t>(b.begin() + 8, b.begin() + 12),
+            (std::vector<std::uint8_t>{static_cast<std::uint8_t>(kCheckpointFormatVersion), 0, 0, 0}));
   const std::uint32_t n = read_u32(b, 12);
   EXPECT_EQ(std::string(b.begin() + 16, b.begin() + 16 + n), checkpoint_build_name());
   // Payload length (u64 LE) = file - header - header CRC - payload CRC.

@@ -25,7 +25,7 @@ struct MaterialPairRule {
   std::uint16_t b = 0;  ///< material index, != a
   std::optional<double> restitution;  ///< e of the pair [-]
   std::optional<double> friction;     ///< mu of the pair [-]
-  std::optional<double> rolling_friction;  ///< mu_r of the pair [-]
+  std::optional<double> rolling_friction = std::nullopt;  ///< mu_r of the pair [-]
 };
 
 /// At most this many materials in a scene (the pair-law table has count^2 entries).

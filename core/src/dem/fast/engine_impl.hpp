@@ -322,11 +322,19 @@ struct FastEngine::Impl {
   /// A record's load on its boundary: minus the contact force on the particle, its moment
   /// about the origin, minus the rolling torque on the particle [N, N m].
   void add_load(BoundaryLoad* block, std::uint32_t boundary, const Vec3& force, const Vec3& point,
-                const Vec3& rolling) const;
+                const Vec3& rolling) const {  // inline: once per boundary record in the per-step sums
+    block[boundary].force -= force;
+    block[boundary].moment_about_origin += point.cross(-force);
+    if (s.rolling) block[boundary].moment_about_origin -= rolling;
+  }
 
   /// Adds minus the forces of particle k's boundary records to the loads `block` (one per
   /// boundary), in boundary order.
-  void add_records(BoundaryLoad* block, std::size_t k) const;
+  void add_records(BoundaryLoad* block, std::size_t k) const {
+    for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
+      add_load(block, s.records[r].boundary, s.records[r].force, s.records[r].point, s.records[r].rolling);
+    }
+  }
 
   /// Owned particles that have crossed a boundary (one rank: all of them).
   std::size_t count_escaped() const;

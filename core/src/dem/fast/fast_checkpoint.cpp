@@ -83,8 +83,8 @@ void FastEngine::restore_state(const EngineState& state) {
   const Particles& current = particles();  // whole system (collective)
   if (state.dt != s.dt) throw InputError("restore_state: the checkpoint's dt differs from the scene's");
   if (state.particles.size() != current.size()) {
-    throw InputError("restore_state: the checkpoint has " + std::to_string(state.particles.size()) +
-                     " particles, the scene " + std::to_string(current.size()));
+    throw InputError("checkpoint: " + std::to_string(state.particles.size()) + " particles, the scene has " +
+                     std::to_string(current.size()));  // the reference engine's words
   }
   for (std::size_t i = 0; i < current.size(); ++i) {
     if (state.particles[i].id != current[i].id || state.particles[i].radius != current[i].radius ||

@@ -29,19 +29,6 @@ void FastEngine::Impl::add_gathered_loads(std::vector<Load>& all_records) const 
   loads_stale = false;
 }
 
-void FastEngine::Impl::add_load(BoundaryLoad* block, std::uint32_t boundary, const Vec3& force, const Vec3& point,
-              const Vec3& rolling) const {
-  block[boundary].force -= force;
-  block[boundary].moment_about_origin += point.cross(-force);
-  if (s.rolling) block[boundary].moment_about_origin -= rolling;
-}
-
-void FastEngine::Impl::add_records(BoundaryLoad* block, std::size_t k) const {
-  for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
-    add_load(block, s.records[r].boundary, s.records[r].force, s.records[r].point, s.records[r].rolling);
-  }
-}
-
 std::size_t FastEngine::Impl::count_escaped() const {
   return static_cast<std::size_t>(std::count_if(s.escaped_via.begin(), s.escaped_via.begin() + static_cast<std::ptrdiff_t>(s.owned),
                                                 [](std::int32_t via) { return via != 0; }));
