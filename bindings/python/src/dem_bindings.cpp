@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #ifdef PPOHDEM_WITH_OPENMP
@@ -20,7 +21,9 @@
 #include "ppohdem/dem/particle_compare.hpp"
 #include "ppohdem/dem/reference/cell_list.hpp"
 #include "ppohdem/dem/reference/reference_engine.hpp"
+#include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
+#include "ppohdem/provenance.hpp"
 #include "ppohdem/error.hpp"
 
 namespace ppohdem::python {
@@ -207,6 +210,34 @@ void bind_dem(py::module_& m) {
             }
           },
           py::arg("steps"), "Advance by `steps` time steps (in C++, without the GIL)")
+      .def(
+          "run_scene",
+          [](PyEngine& e, bool progress) {
+            // As `ppohdem simulate`: to the scene's last step, writing its [output] files.
+            dem::Scene scene = *e.scene;
+            scene.output.progress = progress;
+            const std::string header = provenance_line(1, e.threads) + "; engine " + e.engine->name();
+            std::ostringstream log;
+            dem::RunSummary s;
+            {
+              py::gil_scoped_release release;
+              with_threads(e.threads, [&] {
+                s = dem::run_scene(*e.engine, scene, header, log);
+                e.engine->particles();
+              });
+            }
+            py::dict d;
+            d["steps"] = s.steps;
+            d["wall_seconds"] = s.wall_seconds;
+            d["frames"] = s.frames;
+            d["escaped"] = s.escaped;
+            d["output_dir"] = scene.output.dir;
+            d["log"] = log.str();
+            return d;
+          },
+          py::arg("progress") = false,
+          "Run to the scene's last step writing final.csv, energy.csv and frames into its [output] dir, as "
+          "`ppohdem simulate`")
       .def_property_readonly("name", [](const PyEngine& e) { return e.engine->name(); })
       .def_property_readonly("threads", [](const PyEngine& e) { return e.threads; })
       .def_property_readonly("dt", [](const PyEngine& e) { return e.scene->setup.dt; })
