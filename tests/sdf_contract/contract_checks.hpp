@@ -36,6 +36,9 @@ struct ContractTally {
   std::size_t bounded_nodes = 0;    ///< nodes under the builder's declared bound instead
   std::size_t sign_checked = 0;     ///< nodes whose sign the oracle decides
   std::size_t violations = 0;       ///< value outside its expectation, or the wrong sign
+  double worst_exact_error = 0.0;   ///< max distance of phi from the oracle interval, exact nodes [m]
+  double worst_above_h = 0.0;       ///< max (|phi| - largest true |phi|) / h_max, bounded nodes
+  double worst_below_h = 0.0;       ///< max (smallest true |phi| - |phi|) / h_max, bounded nodes
   std::string first_violation;      ///< where and by how much, for the failure message
 };
 
@@ -77,9 +80,13 @@ ContractTally check_contract(const ScalarField& phi, Oracle oracle, double round
         if (claims_exact<B>(o, grid, no_node_in_band)) {
           ++tally.exact_nodes;
           ok = c >= o.lo - slack && c <= o.hi + slack;  // false for NaN
+          tally.worst_exact_error = std::max(tally.worst_exact_error, std::max(o.lo - c, c - o.hi));
         } else {
           ++tally.bounded_nodes;
           const double magnitude = std::abs(c);
+          const double h = grid.spacing.maxCoeff();
+          tally.worst_above_h = std::max(tally.worst_above_h, (magnitude - o.distance_hi()) / h);
+          tally.worst_below_h = std::max(tally.worst_below_h, (o.distance_lo() - magnitude) / h);
           ok = magnitude >= o.distance_lo() - B::beyond_band_below(grid) - slack &&
                magnitude <= o.distance_hi() + B::beyond_band_above(grid) + slack;
         }
