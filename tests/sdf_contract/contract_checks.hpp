@@ -42,9 +42,10 @@ struct ContractTally {
   std::string first_violation;      ///< where and by how much, for the failure message
 };
 
-/// True if node n of `grid` lies in the region where builder B claims exactness.
+/// True if a node whose true value lies in `o` is in the region where builder B claims exactness.
 template <typename B>
 bool claims_exact(const OracleInterval& o, const GridSpec& grid, bool no_node_in_band) {
+  if (B::exact_everywhere) return true;
   if (no_node_in_band && B::exact_when_no_node_in_band) return true;
   // Nodes a rounding away from the band's edge may fall on either side: the bound applies to
   // them, and it always contains the exact value.

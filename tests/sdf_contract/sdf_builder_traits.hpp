@@ -7,8 +7,8 @@
 ///
 /// What a traits struct declares:
 ///   build(mesh, grid, report)   the builder under test, returning a double field [m]
-///   exact_band(grid)            exact (to rounding) wherever the true |phi| <= this [m];
-///                               +inf = exact_everywhere
+///   exact_everywhere            exact (to rounding) at every node; otherwise
+///   exact_band(grid)            exact_in_band_only: exact wherever the true |phi| <= this [m]
 ///   exact_when_no_node_in_band  if no node lies within exact_band, every node is exact
 ///   beyond_band_below/above     beyond exact_band: |phi| - |true phi| lies in [-below, +above] [m]
 ///   storage_rounding(v)         what storing v costs (0 for double, 2^-24 |v| for float) [m]
@@ -38,6 +38,7 @@ enum class Lipschitz {
 
 /// Defaults for a builder that claims the exact signed distance at every node (no gap).
 struct ExactEverywhere {
+  static constexpr bool exact_everywhere = true;
   static double exact_band(const GridSpec&) { return kInfinity; }
   static constexpr bool exact_when_no_node_in_band = true;
   static double beyond_band_below(const GridSpec&) { return 0.0; }
@@ -67,6 +68,7 @@ struct ReferenceSeed : ExactEverywhere {
     return sdf::reference::SeedPipelineSdfBuilder().build(mesh, grid, report);
   }
   /// exact_in_band_only(2 sqrt(3) h_max): the band nodes are the exact builder's, bit for bit.
+  static constexpr bool exact_everywhere = false;
   static double exact_band(const GridSpec& grid) {
     return sdf::reference::SeedPipelineSdfBuilder::kOriginalBandInH * grid.spacing.maxCoeff();
   }
@@ -75,7 +77,7 @@ struct ReferenceSeed : ExactEverywhere {
   static constexpr bool warns_when_no_node_in_band = true;
   /// Beyond the band: the largest far-field error documented (docs/sdf-accuracy.md, summary:
   /// 0.6-1.7 h on every fixture up to 128^3; docs/sdf.md §2: 1.39 h on the box at 65^3) is
-  /// below 2 h; the suite's grids are at most 49 nodes a side, where it is below 1.1 h.
+  /// below 2 h; the suite's grids are at most 49 nodes a side (docs/sdf.md §6 has its margin).
   static double beyond_band_below(const GridSpec& grid) { return 2.0 * grid.spacing.maxCoeff(); }
   static double beyond_band_above(const GridSpec& grid) { return 2.0 * grid.spacing.maxCoeff(); }
   /// A first-order eikonal solution is 1-Lipschitz across axis neighbours only (the Godunov
@@ -123,6 +125,8 @@ struct FastBand : ExactEverywhere {
     options.band_cells = kBandCells;
     return fast_build(options, mesh, grid, report);
   }
+  /// exact_in_band_only(W h_max), W = kBandCells.
+  static constexpr bool exact_everywhere = false;
   static double exact_band(const GridSpec& grid) { return kBandCells * grid.spacing.maxCoeff(); }
   static constexpr bool exact_when_no_node_in_band = false;
   static double beyond_band_below(const GridSpec&) { return 0.0; }

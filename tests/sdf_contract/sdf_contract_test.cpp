@@ -47,6 +47,18 @@ auto inscribed_sphere_oracle(const Vec3& centre, double radius, double sag) {
   };
 }
 
+TYPED_TEST(SdfContract, DeclaredGapsAreConsistent) {
+  using B = TypeParam;
+  // exact_everywhere and exact_in_band_only(width) are the two forms of one declaration.
+  const GridSpec grid = cube_grid(0.0, 1.0, 5);
+  EXPECT_EQ(B::exact_everywhere, B::exact_band(grid) == kInfinity);
+  if (!B::exact_everywhere) {
+    EXPECT_GT(B::exact_band(grid), 0.0);  // the surface itself is always exact
+    EXPECT_GT(B::beyond_band_below(grid) + B::beyond_band_above(grid), 0.0);
+  }
+  EXPECT_EQ(B::storage_rounding(0.0), 0.0);
+}
+
 TYPED_TEST(SdfContract, BoxWithFacesOnGridPlanes) {
   using B = TypeParam;
   {
