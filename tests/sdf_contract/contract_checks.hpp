@@ -126,12 +126,12 @@ inline auto field_oracle(const ScalarField& oracle) {
 }
 
 /// Agreement with the reference exact builder (the exact oracle that needs no CGAL): within
-/// `tol_h` h_max where B claims exactness, within its declared bound elsewhere, and the same sign
+/// `tol_h` h_min where B claims exactness, within its declared bound elsewhere, and the same sign
 /// at every node the reference does not put exactly on the surface (sign tolerance 0).
 template <typename B>
 ContractTally expect_agrees_with_reference_exact(const ScalarField& phi, const TriangleMesh& mesh, double tol_h) {
   const ScalarField reference = ReferenceExact::build(mesh, phi.grid, nullptr);
-  return expect_contract<B>(phi, field_oracle(reference), tol_h * phi.grid.spacing.maxCoeff(), 0.0);
+  return expect_contract<B>(phi, field_oracle(reference), tol_h * phi.grid.min_spacing(), 0.0);
 }
 
 /// |phi_a - phi_b| against |x_a - x_b| over the neighbour pairs the builder's Lipschitz claim
