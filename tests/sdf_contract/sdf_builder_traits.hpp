@@ -75,13 +75,13 @@ struct ReferenceSeed : ExactEverywhere {
   /// With no node in the band there is nothing to sweep from: exact distances and a warning.
   static constexpr bool exact_when_no_node_in_band = true;
   static constexpr bool warns_when_no_node_in_band = true;
-  /// Beyond the band: the largest far-field error documented (docs/sdf-accuracy.md, summary:
-  /// 0.6-1.7 h on every fixture up to 128^3; docs/sdf.md §2: 1.39 h on the box at 65^3) is
-  /// below 2 h; the suite's grids are at most 49 nodes a side (docs/sdf.md §6 has its margin).
+  /// Beyond the band: 2 h, above the largest far-field error documented for the first-order
+  /// sweep (docs/sdf-accuracy.md, "Summary"; the margin on the suite's grids: docs/sdf.md §6).
   static double beyond_band_below(const GridSpec& grid) { return 2.0 * grid.spacing.maxCoeff(); }
   static double beyond_band_above(const GridSpec& grid) { return 2.0 * grid.spacing.maxCoeff(); }
   /// A first-order eikonal solution is 1-Lipschitz across axis neighbours only (the Godunov
-  /// update never lets a neighbour differ by more than h); diagonal ratios reach 1.17 (docs).
+  /// update never lets a neighbour differ by more than h); not along diagonals
+  /// (docs/sdf-accuracy.md, "Summary").
   static constexpr Lipschitz lipschitz = Lipschitz::axis_neighbours;
 };
 

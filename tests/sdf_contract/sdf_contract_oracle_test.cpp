@@ -21,7 +21,7 @@ namespace {
 
 // Exact builders equal the oracle to 1e-12 relative, "relative" being |c - o| / max(|o|, h): the
 // round-off of a point-triangle distance is set by the magnitude of the coordinates, not by |phi|
-// (docs/sdf-accuracy.md, summary: measured 4.1e-14 at most).
+// (docs/sdf-accuracy.md, "Summary").
 constexpr double kExactRelative = 1e-12;
 // Agreement between two exact builders on the small hard cases, in h (tests/sdf_fast).
 constexpr double kExactTolH = 1e-9;
