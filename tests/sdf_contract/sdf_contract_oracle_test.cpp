@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "../reference/test_meshes.hpp"
 #include "builder_list.hpp"
@@ -37,17 +39,39 @@ GridSpec grid_around(const TriangleMesh& mesh, int n) {
   return GridSpec::spanning(box.centre() - half, box.centre() + half, {n, n, n});
 }
 
+/// A fixture mesh and its CGAL oracle on grid_around(mesh, nodes), computed once per process:
+/// ctest runs each body for all builders in one process (CMakeLists.txt), so CGAL's tree and
+/// queries, the bulk of the cost, are paid once per fixture instead of once per builder.
+struct FixtureWithOracle {
+  TriangleMesh mesh;
+  GridSpec grid;
+  ScalarField oracle;
+  validation::OracleReport report;
+};
+
+const FixtureWithOracle& fixture_with_oracle(const std::string& name, int nodes) {
+  static std::map<std::pair<std::string, int>, FixtureWithOracle> cache;
+  auto [it, inserted] = cache.try_emplace({name, nodes});
+  if (inserted) {
+    FixtureWithOracle& f = it->second;
+    f.mesh = read_stl(test::fixture("meshes/" + name));
+    f.grid = grid_around(f.mesh, nodes);
+    f.oracle = validation::cgal_signed_distance(f.mesh, f.grid, 2, &f.report);
+  }
+  return it->second;
+}
+
 /// One closed fixture: exact to 1e-12 relative where claimed (its bound elsewhere), no sign
 /// mismatch where |oracle| > 1e-9 (absolute and in h, whichever checks more nodes), Lipschitz as
 /// declared, and within 1e-9 h of the reference exact builder with the same signs.
 template <typename B>
 void expect_closed_fixture_within_contract(const std::string& name, int nodes) {
   SCOPED_TRACE(name);
-  const TriangleMesh mesh = read_stl(test::fixture("meshes/" + name));
-  const GridSpec grid = grid_around(mesh, nodes);
-  validation::OracleReport oracle_report;
-  const ScalarField oracle = validation::cgal_signed_distance(mesh, grid, 2, &oracle_report);
-  ASSERT_TRUE(oracle_report.sign_valid) << name << " should be closed";
+  const FixtureWithOracle& fixture = fixture_with_oracle(name, nodes);
+  const TriangleMesh& mesh = fixture.mesh;
+  const GridSpec& grid = fixture.grid;
+  const ScalarField& oracle = fixture.oracle;
+  ASSERT_TRUE(fixture.report.sign_valid) << name << " should be closed";
   const ScalarField phi = B::build(mesh, grid, nullptr);
   const double sign_tolerance = 1e-9 * std::min(1.0, grid.min_spacing());
   const ContractTally tally = expect_contract<B>(phi, field_oracle(oracle), 0.0, sign_tolerance, kExactRelative);
@@ -71,11 +95,11 @@ TYPED_TEST(SdfContractOracle, OpenBunnyMagnitudesAndReferenceSign) {
   // The open scan has no inside for CGAL (unsigned oracle): |phi| against it; the sign against
   // the reference's generalized winding number (itself checked against brute force in
   // tests/reference).
-  const TriangleMesh mesh = read_stl(test::fixture("meshes/bunny.stl"));
-  const GridSpec grid = grid_around(mesh, 12);
-  validation::OracleReport oracle_report;
-  const ScalarField oracle = validation::cgal_signed_distance(mesh, grid, 2, &oracle_report);
-  EXPECT_FALSE(oracle_report.sign_valid);
+  const FixtureWithOracle& fixture = fixture_with_oracle("bunny.stl", 12);
+  const TriangleMesh& mesh = fixture.mesh;
+  const GridSpec& grid = fixture.grid;
+  const ScalarField& oracle = fixture.oracle;
+  EXPECT_FALSE(fixture.report.sign_valid);
   SdfReport report;
   const ScalarField phi = B::build(mesh, grid, &report);
   ScalarField magnitude = phi;
