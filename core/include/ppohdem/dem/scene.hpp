@@ -41,6 +41,7 @@
 /// Only [simulation], [material], [contact] and [particles] are required.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,5 +77,12 @@ struct Scene {
 /// Reads and checks a scene; throws InputError(file, line, ...) naming the key. Does not run
 /// validate_setup (the engine does, so --force can still be applied).
 Scene read_scene(const std::filesystem::path& file);
+
+/// The same from TOML text (the Python module's Scene.from_dict): `name` stands for the file
+/// in error messages and relative paths resolve against `base_dir`. With `particles`, those
+/// are the scene's particles (material = index into the scene's materials, checked here) and
+/// [particles] may hold allow_overlap only; without, [particles] is required as in a file.
+Scene read_scene_text(std::string text, const std::string& name, const std::filesystem::path& base_dir,
+                      std::optional<Particles> particles = std::nullopt);
 
 }  // namespace ppohdem::dem
