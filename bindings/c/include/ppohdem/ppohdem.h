@@ -184,7 +184,8 @@ typedef struct ppohdem_legacy_parameters {
 ppohdem_status ppohdem_legacy_read_parameters(const char* params_file, ppohdem_legacy_parameters* parameters);
 /* ppohDEM_pre: physics "ppohdem-1.0" (NULL: same; the original's arithmetic, bit for bit) or
  * "corrected" (ppohdem's reference engine on the same sample, docs/compat.md). Reads
- * distance_NNNN.dat and object_mesh.stl from work_dir, takes count particles at
+ * distance_NNNN.dat and object_mesh.stl from work_dir (corrected: distance_NNNN.dat from the
+ * params file's folder), takes count particles at
  * positions[3*count] [m] with radius[count] [m] (at rest, ids 1..count in this order) and writes
  * work_dir/objects_distance.csv. */
 ppohdem_status ppohdem_legacy_dem_create(const char* params_file, const char* work_dir, const char* physics,
