@@ -15,6 +15,7 @@
 #include "ppohdem/io/legacy_inputs.hpp"
 #include "ppohdem/mesh/placement.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
+#include "ppohdem10_dem_format.hpp"
 
 using namespace ppohdem;
 using namespace ppohdem::c_api;
@@ -46,6 +47,28 @@ void run_stage(ppohdem_util& u, const char* needs, Stage&& stage) {
 // The original writes file_info%output_filename // "distance_NNNN.dat": line 2 is a prefix.
 std::string prefixed(const char* prefix, const std::string& name) {
   return std::string(prefix == nullptr ? "" : prefix) + name;
+}
+
+// output_object_mesh: the placed mesh with the file's facet normals, every line written
+// list-directed (one leading blank; reals with 17 significant digits), e.g.
+// "        vertex 24.999997000001500 24.999999700000149 13.000000000000000".
+void write_original_object_mesh(const std::string& path, const TriangleMesh& placed) {
+  using compat::fortran::list_directed_real;
+  auto three = [](const Vec3& v) {
+    return list_directed_real(v.x()) + ' ' + list_directed_real(v.y()) + ' ' + list_directed_real(v.z());
+  };
+  std::string text = " solid Object01 \n";
+  for (const Triangle& t : placed.triangles) {
+    text += "   facet normal " + three(t.file_normal) + "\n";
+    text += "     outer loop \n";
+    for (const Vec3& v : t.v) text += "        vertex " + three(v) + "\n";
+    text += "     endloop \n";
+    text += "   endfacet \n";
+  }
+  text += " endsolid Object01 \n";
+  AtomicFileWriter out(path);
+  out.stream() << text;
+  out.commit();
 }
 
 }  // namespace
@@ -113,7 +136,7 @@ ppohdem_status ppohdem_util_voxelize(ppohdem_util* util, const char* out_prefix)
     placement.mode = PlacementMode::kPpohdem10;
     const TriangleMesh placed = place_mesh(*u.raw_mesh, placement);
     if (u.rank == 0) {
-      write_stl(prefixed(out_prefix, "object_mesh.stl"), placed, StlEncoding::kAscii, /*use_file_normals=*/true);
+      write_original_object_mesh(prefixed(out_prefix, "object_mesh.stl"), placed);
     }
     u.stages = std::make_unique<compat::Ppohdem10VoxelizerStages>(placed, u.input, u.nprocs);
     u.stages->voxelize();
