@@ -40,7 +40,7 @@ subroutine ppohDEM_setparameters(file_info, parameters)
 
     if (file_info%ppohdem_set /= 1) then
         write (0,'(a)') 'ppohDEM-Error: ppohDEM_setparameters called before ppohDEM_loadfileinfo'
-        error stop 1
+        stop 1
     endif
     call ppohdem_binding_check(ppohdem_legacy_read_parameters(ppohdem_binding_cstr(file_info%input_params_filename), &
         p), 'ppohDEM_setparameters')
@@ -87,7 +87,7 @@ subroutine ppohdem_binding_randomseed()
         read (text, *, iostat=status) c
         if (status /= 0) then
             write (0,'(a)') 'ppohDEM-Error: PPOHDEM_RANDOM_SEED: expected an integer, got "' // trim(text) // '"'
-            error stop 1
+            stop 1
         endif
     endif
     call random_seed(size=seedsize)
@@ -120,7 +120,7 @@ subroutine ppohdem_binding_locate_2dbox(parameters, particles, lx, lz, x0, z0, y
     if(nx*nz<parameters%Pnum) then
         write (0,'(a,i0,a,i0,a)') 'ppohDEM-Error: ppohDEM_pre: the sheet holds ', nx*nz, ' particles, Pnum is ', &
             parameters%Pnum, ' (the original would leave the rest undefined)'
-        error stop 1
+        stop 1
     endif
     allocate(rn(particles%n*3))
     call random_number(rn)
@@ -159,7 +159,7 @@ subroutine ppohdem_binding_read_dump_steps()
     read (text, *, iostat=p) ppohdem_binding_dump_steps
     if (p /= 0) then
         write (0,'(a)') 'ppohDEM-Error: PPOHDEM_STATE_DUMPS: expected comma-separated step numbers'
-        error stop 1
+        stop 1
     endif
 end subroutine
 
@@ -235,7 +235,7 @@ subroutine ppohDEM_pre(file_info, parameters, particles, cells, walls, objects, 
 
     if (parameters%ppohdem_set /= 1) then
         write (0,'(a)') 'ppohDEM-Error: ppohDEM_pre called before ppohDEM_setparameters'
-        error stop 1
+        stop 1
     endif
     call ppohdem_binding_randomseed()
 

@@ -102,7 +102,7 @@ contains
         character(len=*), intent(in) :: where
         if (status /= 0) then
             write (0,'(a)') 'ppohDEM-Error in ' // where // ': ' // ppohdem_binding_last_error()
-            error stop 1
+            stop 1
         endif
     end subroutine
 
@@ -112,7 +112,7 @@ contains
         character(len=*), intent(in) :: where, prerequisite
         if (.not. c_associated(handle)) then
             write (0,'(a)') 'ppohDEM-Error: ' // where // ' called before ' // prerequisite
-            error stop 1
+            stop 1
         endif
     end subroutine
 

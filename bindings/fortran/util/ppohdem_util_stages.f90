@@ -26,13 +26,13 @@ subroutine ppohDEM_loadfileinfo(file_info, ftype)
     if (ftype /= 1) then
         write (0,'(a,i0,a)') 'ppohDEM-Error: ppohDEM_loadfileinfo: file type ', ftype, &
             ' is not supported by ppohdem (only 1, the voxelizer input)'
-        error stop 1
+        stop 1
     endif
     ! The original's reads, so that file_info holds what the original holds.
     open (21, file=input_file, status='old', iostat=err)
     if (err /= 0) then
         write (0,'(a)') 'ppohDEM-Error: ppohDEM_loadfileinfo: cannot open ' // input_file
-        error stop 1
+        stop 1
     endif
     file_info%func = 1
     read (21,'(a80)') file_info%input_filename

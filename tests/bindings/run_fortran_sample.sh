@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Builds one of the ORIGINAL, unmodified ppohDEM sample programs against an installed ppohdem
+# exactly as docs/fortran.md tells users to (mpif90 + pkg-config), runs it, and compares its
+# files byte for byte with the original program's stored outputs (fixtures/ppohdem-1.0).
+#
+#   run_fortran_sample.sh PREFIX FIXTURES WORK CASE
+#     PREFIX    an install prefix (cmake --install build --prefix PREFIX)
+#     FIXTURES  the repository's fixtures/ folder
+#     WORK      a scratch folder (emptied)
+#     CASE      util-cube-np1 | util-cube-np2 | util-sphere-{centered,offset}-np{1,2}
+#               | dem-10 (Time_finish 10: frames 1-10, the dumps up to step 5000)
+#               | dem-full (the shipped input: 300 frames, the dumps up to step 150000; ~1-2 min)
+#               | dem-pattern (another valid call pattern: tests/bindings/fortran/dem_pattern.f90)
+set -euo pipefail
+prefix=$(realpath "$1"); fixtures=$(realpath "$2"); work=$3; case_name=$4
+export PKG_CONFIG_PATH="$prefix/lib/pkgconfig${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+here=$(dirname "$(realpath "$0")")
+orig="$fixtures/ppohdem-1.0"
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+work=$(pwd)
+fail=0
+
+same() {  # same FILE EXPECTED_STREAM_COMMAND...
+  local file=$1; shift
+  if cmp -s "$file" <("$@"); then echo "identical: $file"; else echo "DIFFERS:   $file"; fail=1; fi
+}
+
+build() {  # build SOURCE PKG OUT — the contract line of docs/fortran.md
+  # shellcheck disable=SC2046
+  mpif90 $(pkg-config --cflags "$2") "$1" $(pkg-config --libs "$2") -o "$3"
+}
+
+case $case_name in
+  util-*)
+    build "$orig/source/utils/src/sample_DEMutil.f90" ppohdem-util-fortran sample_DEMutil
+    mkdir -p input data
+    ranks=${case_name##*-np}
+    shape=${case_name%-np*}
+    if [[ $shape == util-cube ]]; then
+      cp "$orig/util-cube/input_constants_voxelizer.dat" input/
+      cp "$orig/test-cube.stl" data/
+      expected_dir="$orig/util-cube/np$ranks"; names=(distance_0000.dat distance_0001.dat)
+      expect_stl=(cat "$orig/object_mesh_cube.stl")
+    else
+      variant=${shape#util-sphere-}
+      cp "$orig/util-sphere/$variant/input_constants_voxelizer.dat" input/
+      xz -dc "$orig/util-sphere/sphere_uv64x32.stl.xz" > data/sphere_uv64x32.stl
+      expected_dir="$orig/util-sphere/$variant"; names=("np${ranks}_distance_0000.dat" "np${ranks}_distance_0001.dat")
+      expect_stl=(xz -dc "$orig/util-sphere/$variant/object_mesh.stl.xz")
+    fi
+    mpirun --oversubscribe -np "$ranks" ./sample_DEMutil > stdout.txt 2>&1 || { cat stdout.txt; exit 1; }
+    for ((r = 0; r < ranks; r++)); do
+      same "distance_000$r.dat" xz -dc "$expected_dir/${names[$r]}.xz"
+    done
+    same object_mesh.stl "${expect_stl[@]}"
+    # The timing logs keep the original's format: (1I3,F16.6) lines, then 'Total ' (1A,F16.6).
+    for log in log-timings1 log-timings2 log-timings3 log-timings_0000.log; do
+      if ! grep -Eq '^Total +[0-9]+\.[0-9]{6}$' "$log" || ! grep -Eq '^  1 +[0-9]+\.[0-9]{6}$' "$log"; then
+        echo "BAD FORMAT: $log"; fail=1
+      fi
+    done
+    ;;
+  dem-10|dem-full|dem-pattern)
+    if [[ $case_name == dem-pattern ]]; then
+      build "$here/fortran/dem_pattern.f90" ppohdem-dem-fortran sample_program
+    else
+      build "$orig/source/examples/sample_main01.f90" ppohdem-dem-fortran sample_program
+    fi
+    mkdir -p data obj distance fullprec
+    xz -dc "$orig/util-cube/np1/distance_0000.dat.xz" > distance_0000.dat
+    cp "$orig/object_mesh_cube.stl" object_mesh.stl
+    d="$orig/dem-sample"
+    if [[ $case_name == dem-full ]]; then
+      cp "$d/input_params_update.dat" .
+      frames=300; dumps=0,1,2,10,100,500,1000,5000,50000,150000; objects=(001 002 010 100 150 300)
+    else
+      sed 's/^Time_finish: 300/Time_finish: 10/' "$d/input_params_update.dat" > input_params_update.dat
+      frames=10; dumps=0,1,2,10,100,500,1000,5000; objects=(001 002 010)
+      [[ $case_name == dem-pattern ]] && { frames=2; dumps=0,500,1000; objects=(001 002); }
+    fi
+    PPOHDEM_RANDOM_SEED=12345 PPOHDEM_STATE_DUMPS=$dumps ./sample_program > stdout.txt 2>&1 || { cat stdout.txt; exit 1; }
+    for s in ${dumps//,/ }; do
+      name=$(printf 'state_step%06d.dat' "$s")
+      expected="$d/fullprec/$name.xz"; [[ $s == 150000 ]] && expected="$d/fullprec/state_final.dat.xz"
+      same "fullprec/$name" xz -dc "$expected"
+    done
+    cat $(for ((f = 1; f <= frames; f++)); do printf 'data/out%03d.dat ' "$f"; done) > frames.dat
+    same frames.dat sh -c "xz -dc '$d/data/out001_to_out300.dat.xz' | head -c $((frames * 39000))"
+    [[ -e $(printf 'data/out%03d.dat' $((frames + 1))) ]] && { echo "EXTRA FRAME written"; fail=1; }
+    same objects_distance.csv xz -dc "$d/objects_distance/objects_distance_init.csv.xz"
+    for n in "${objects[@]}"; do
+      same "distance/objects_distance$n.csv" xz -dc "$d/objects_distance/objects_distance$n.csv.xz"
+      same "obj/obj$n.pov" cat "$d/obj/obj$n.pov"
+    done
+    ;;
+  *) echo "unknown case $case_name" >&2; exit 2 ;;
+esac
+if [[ $fail == 0 ]]; then echo "$case_name: all files identical to the original's"; fi
+exit $fail
