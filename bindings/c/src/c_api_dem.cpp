@@ -36,6 +36,12 @@ const dem::DemEngine& engine_of(const ppohdem_engine* e) {
   return *h.engine;
 }
 
+dem::DemEngine& engine_of(ppohdem_engine* e) {
+  ppohdem_engine& h = require(e, "engine");
+  if (!h.engine) throw StateError("the engine handle holds no engine");
+  return *h.engine;
+}
+
 }  // namespace
 
 extern "C" {
@@ -166,12 +172,12 @@ ppohdem_status ppohdem_engine_destroy(ppohdem_engine* engine) {
 }
 
 ppohdem_status ppohdem_engine_step(ppohdem_engine* engine) {
-  return guarded(__func__, [&] { const_cast<dem::DemEngine&>(engine_of(engine)).step(); });
+  return guarded(__func__, [&] { engine_of(engine).step(); });
 }
 
 ppohdem_status ppohdem_engine_advance(ppohdem_engine* engine, long steps) {
   return guarded(__func__, [&] {
-    dem::DemEngine& e = const_cast<dem::DemEngine&>(engine_of(engine));
+    dem::DemEngine& e = engine_of(engine);
     if (steps < 0) throw ArgumentError("steps must be >= 0, got " + std::to_string(steps));
     e.advance(steps);
   });
@@ -239,7 +245,7 @@ ppohdem_status ppohdem_engine_checkpoint(const ppohdem_engine* engine, const cha
 
 ppohdem_status ppohdem_engine_restart(ppohdem_engine* engine, const char* path) {
   return guarded(__func__, [&] {
-    dem::DemEngine& e = const_cast<dem::DemEngine&>(engine_of(engine));
+    dem::DemEngine& e = engine_of(engine);
     const dem::Checkpoint cp = dem::read_checkpoint(require_text(path, "path"));
     e.restore_state(cp.engine);
   });

@@ -3,6 +3,7 @@
 // ppohDEM_dataout, ppohDEM_check_objects) for the Fortran module ppohDEM_util (DEM).
 // Physics "ppohdem-1.0" is reference/compat's transcription (bit for bit the original);
 // "corrected" runs ppohdem's reference engine on the same sample (docs/compat.md section 2).
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -208,8 +209,7 @@ ppohdem_status ppohdem_legacy_dem_dataout(ppohdem_legacy_dem* dem, int32_t* done
       }
     }
     if (frame) {
-      int32_t file_index = 0;
-      ppohdem_legacy_dem_counter(dem, nullptr, nullptr, &file_index, nullptr);
+      const int file_index = d.compat ? d.compat->counter().file_index : d.file_index;
       write_text(d.work_dir / "data" / frame_name("out", file_index, ".dat"), text);
     }
     if (done != nullptr) *done = frame ? 1 : 0;
