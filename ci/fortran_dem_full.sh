@@ -9,4 +9,4 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(realpath "${1:-$root/build}")
 prefix=$build/fortran-full/install
 cmake --install "$build" --prefix "$prefix" > /dev/null
-exec "$root/tests/bindings/run_fortran_sample.sh" "$prefix" "$root/fixtures" "$build/fortran-full/work" dem-full
+exec "$root/tests/bindings/run_installed_sample.sh" "$prefix" "$root/fixtures" "$build/fortran-full/work" dem-full

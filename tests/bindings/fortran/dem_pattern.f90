@@ -1,7 +1,7 @@
 ! Another valid call pattern of the DEM library (issue 34): stop after 1000 steps instead of at
 ! Tfin, call ppohDEM_check_objects only every other step, and write the program's own output
 ! (the lowest particle) every 250 steps from particles%pos. The original's frames 1 and 2 must
-! still come out byte for byte (tests/bindings/run_fortran_sample.sh dem-pattern).
+! still come out byte for byte (tests/bindings/run_installed_sample.sh dem-pattern).
 program dem_pattern
     use ppohDEM_util
     implicit none

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Builds one of the ORIGINAL, unmodified ppohDEM sample programs against an installed ppohdem
+# Builds one of the ORIGINAL, unmodified ppohDEM sample programs (or a C program) against an installed ppohdem
 # exactly as docs/fortran.md tells users to (mpif90 + pkg-config), runs it, and compares its
 # files byte for byte with the original program's stored outputs (fixtures/ppohdem-1.0).
 #
-#   run_fortran_sample.sh PREFIX FIXTURES WORK CASE
+#   run_installed_sample.sh PREFIX FIXTURES WORK CASE
 #     PREFIX    an install prefix (cmake --install build --prefix PREFIX)
 #     FIXTURES  the repository's fixtures/ folder
 #     WORK      a scratch folder (emptied)
@@ -11,6 +11,7 @@
 #               | dem-10 (Time_finish 10: frames 1-10, the dumps up to step 5000)
 #               | dem-full (the shipped input: 300 frames, the dumps up to step 150000; ~1-2 min)
 #               | dem-pattern (another valid call pattern: tests/bindings/fortran/dem_pattern.f90)
+#               | c-pkgconfig (a C program built with cc + pkg-config ppohdem-c)
 set -euo pipefail
 prefix=$(realpath "$1"); fixtures=$(realpath "$2"); work=$3; case_name=$4
 export PKG_CONFIG_PATH="$prefix/lib/pkgconfig${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}"
@@ -93,6 +94,12 @@ case $case_name in
       same "distance/objects_distance$n.csv" xz -dc "$d/objects_distance/objects_distance$n.csv.xz"
       same "obj/obj$n.pov" cat "$d/obj/obj$n.pov"
     done
+    ;;
+  c-pkgconfig)
+    # shellcheck disable=SC2046
+    cc -std=c99 $(pkg-config --cflags ppohdem-c) "$here/cmake_consumer/version.c" $(pkg-config --libs ppohdem-c) -o version
+    ./version | tee version.txt
+    grep -Eq '^ppohdem [0-9]+\.[0-9]+\.[0-9]+$' version.txt || fail=1
     ;;
   *) echo "unknown case $case_name" >&2; exit 2 ;;
 esac
