@@ -11,6 +11,7 @@
 #               | dem-10 (Time_finish 10: frames 1-10, the dumps up to step 5000)
 #               | dem-full (the shipped input: 300 frames, the dumps up to step 150000; ~1-2 min)
 #               | dem-pattern (another valid call pattern: tests/bindings/fortran/dem_pattern.f90)
+#               | dem-corrected (PPOHDEM_PHYSICS=corrected, 500 steps: free fall, closed form)
 #               | c-pkgconfig (a C program built with cc + pkg-config ppohdem-c)
 set -euo pipefail
 prefix=$(realpath "$1"); fixtures=$(realpath "$2"); work=$3; case_name=$4
@@ -94,6 +95,34 @@ case $case_name in
       same "distance/objects_distance$n.csv" xz -dc "$d/objects_distance/objects_distance$n.csv.xz"
       same "obj/obj$n.pov" cat "$d/obj/obj$n.pov"
     done
+    ;;
+  dem-corrected)
+    build "$orig/source/examples/sample_main01.f90" ppohdem-dem-fortran sample_program
+    mkdir -p data obj distance
+    xz -dc "$orig/util-cube/np1/distance_0000.dat.xz" > distance_0000.dat
+    cp "$orig/object_mesh_cube.stl" object_mesh.stl
+    sed 's/^Time_finish: 300/Time_finish: 1/' "$orig/dem-sample/input_params_update.dat" > input_params_update.dat
+    PPOHDEM_PHYSICS=corrected PPOHDEM_RANDOM_SEED=12345 ./sample_program > stdout.txt 2>&1 || { cat stdout.txt; exit 1; }
+    [[ -e data/out001.dat && ! -e data/out002.dat ]] || { echo "expected exactly one frame"; fail=1; }
+    # No contact during the first 500 steps (1 s): the sheet falls freely, and velocity Verlet is
+    # exact for a constant acceleration: z = z0 - g t^2 / 2 = z0 - 0.005 (g = 0.01, t = 1 s),
+    # x and y unchanged. The frame lists the particles in id order with 6 significant digits
+    # (E16.6): the tolerance is 0.6 units of the last printed digit (the print's half unit plus
+    # margin; 6e-6 at z ~ 5). The original's symplectic Euler falls 0.00501.
+    xz -dc "$orig/dem-sample/fullprec/state_step000000.dat.xz" | grep -v '^#' > initial.txt
+    if ! paste -d' ' initial.txt data/out001.dat | awk '
+        { x0 = $2; y0 = $3; z0 = $4; n = NF; x = $(n-3); y = $(n-2); z = $(n-1); r0 = $11; r = $n
+          if (abs(x - x0) > tol(x0) || abs(y - y0) > tol(y0) || abs(z - (z0 - 0.005)) > tol(z0) ||
+              abs(r - r0) > tol(r0)) {
+            print "particle " $1 ": got " x, y, z, r " expected " x0, y0, z0 - 0.005, r0; bad = 1 } }
+        function abs(v) { return v < 0 ? -v : v }
+        function tol(v,  e) { e = log(abs(v)) / log(10); e = (e == int(e) || e >= 0) ? int(e) : int(e) - 1
+                             return 0.6 * 10 ^ (e - 5) }
+        END { if (NR != 600) { print "expected 600 particles, got " NR; bad = 1 }; exit bad }'; then
+      fail=1
+    else
+      echo "free fall of 600 particles as z0 - g t^2 / 2: ok"
+    fi
     ;;
   c-pkgconfig)
     # shellcheck disable=SC2046
