@@ -15,7 +15,6 @@
 #include "ppohdem/dem/legacy_scene.hpp"
 #include "ppohdem/dem/reference/reference_engine.hpp"
 #include "ppohdem/io/atomic_file.hpp"
-#include "ppohdem10_dem_format.hpp"
 
 using namespace ppohdem;
 using namespace ppohdem::c_api;
@@ -200,12 +199,13 @@ ppohdem_status ppohdem_legacy_dem_dataout(ppohdem_legacy_dem* dem, int32_t* done
       frame = d.itime % Constants::kStepsPerFrame == 0;
       if (frame) {
         d.file_index = d.file_index + 1;
+        std::vector<compat::Rvec3> positions;
+        std::vector<double> radius;
         for (const dem::Particle& p : d.corrected->particles()) {
-          for (const double v : {p.position.x(), p.position.y(), p.position.z(), p.radius}) {
-            text += compat::fortran::e_format(v, 16, 6);
-          }
-          text += '\n';
+          positions.push_back({p.position.x(), p.position.y(), p.position.z()});
+          radius.push_back(p.radius);
         }
+        text = compat::ppohdem10_frame_text(positions, radius);
       }
     }
     if (frame) {

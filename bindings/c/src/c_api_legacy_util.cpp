@@ -15,7 +15,6 @@
 #include "ppohdem/io/legacy_inputs.hpp"
 #include "ppohdem/mesh/placement.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
-#include "ppohdem10_dem_format.hpp"
 
 using namespace ppohdem;
 using namespace ppohdem::c_api;
@@ -49,23 +48,7 @@ std::string prefixed(const char* prefix, const std::string& name) {
   return std::string(prefix == nullptr ? "" : prefix) + name;
 }
 
-// output_object_mesh: the placed mesh with the file's facet normals, every line written
-// list-directed (one leading blank; reals with 17 significant digits), e.g.
-// "        vertex 24.999997000001500 24.999999700000149 13.000000000000000".
-void write_original_object_mesh(const std::string& path, const TriangleMesh& placed) {
-  using compat::fortran::list_directed_real;
-  auto three = [](const Vec3& v) {
-    return list_directed_real(v.x()) + ' ' + list_directed_real(v.y()) + ' ' + list_directed_real(v.z());
-  };
-  std::string text = " solid Object01 \n";
-  for (const Triangle& t : placed.triangles) {
-    text += "   facet normal " + three(t.file_normal) + "\n";
-    text += "     outer loop \n";
-    for (const Vec3& v : t.v) text += "        vertex " + three(v) + "\n";
-    text += "     endloop \n";
-    text += "   endfacet \n";
-  }
-  text += " endsolid Object01 \n";
+void write_text(const std::string& path, const std::string& text) {
   AtomicFileWriter out(path);
   out.stream() << text;
   out.commit();
@@ -136,7 +119,7 @@ ppohdem_status ppohdem_util_voxelize(ppohdem_util* util, const char* out_prefix)
     placement.mode = PlacementMode::kPpohdem10;
     const TriangleMesh placed = place_mesh(*u.raw_mesh, placement);
     if (u.rank == 0) {
-      write_original_object_mesh(prefixed(out_prefix, "object_mesh.stl"), placed);
+      write_text(prefixed(out_prefix, "object_mesh.stl"), compat::ppohdem10_object_mesh_stl(placed));
     }
     u.stages = std::make_unique<compat::Ppohdem10VoxelizerStages>(placed, u.input, u.nprocs);
     u.stages->voxelize();
@@ -167,35 +150,10 @@ ppohdem_status ppohdem_util_write(const ppohdem_util* util, const char* out_pref
     if (!u.stages || u.stages->stages_done() < 4) {
       throw StateError("needs pass 2 (ppohDEM_v_distancecalculate_MPI2) first");
     }
-    const std::vector<double> values = u.stages->distance();
-    const Index3& n = u.input.voxels;
     char name[32];
     std::snprintf(name, sizeof name, "distance_%04d.dat", u.rank);
-    AtomicFileWriter writer(prefixed(out_prefix, name));
-    std::string text;
-    char line[64];
-    // output_data: rank 0 writes the header (4i8), then every rank its own x-planes as
-    // (3I8,1E20.8), k outer, j, i inner (docs/formats.md).
-    if (u.rank == 0) {
-      std::snprintf(line, sizeof line, "%8d%8d%8d%8d\n", n[0], n[1], n[2], u.nprocs);
-      text += line;
-    }
-    const DistanceDatSlab slab = distance_dat_slab(n[0], u.nprocs, u.rank);
-    for (int k = 0; k < n[2]; ++k) {
-      for (int j = 0; j < n[1]; ++j) {
-        for (int i = slab.first_plane; i < slab.first_plane + slab.plane_count; ++i) {
-          std::snprintf(line, sizeof line, "%8d%8d%8d", i + 1, j + 1, k + 1);
-          text += line;
-          text += format_fortran_e20_8(values[static_cast<std::size_t>(i) +
-                                              static_cast<std::size_t>(n[0]) *
-                                                  (static_cast<std::size_t>(j) +
-                                                   static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))]);
-          text += '\n';
-        }
-      }
-    }
-    writer.stream() << text;
-    writer.commit();
+    // output_data: file_info%output_filename // "distance_NNNN.dat", this rank's planes only.
+    write_distance_dat_rank(prefixed(out_prefix, name), u.stages->distance(), u.input.voxels, u.nprocs, u.rank);
   });
 }
 

@@ -299,6 +299,10 @@ void ppohdem10_symplectic(Ppohdem10Particles& particles);
 /// The field part of ppohDEM_check_objects: resample the data for frame `omega_count` (Q6).
 void ppohdem10_update_object_field(Ppohdem10Object& object, int omega_count);
 
+/// data/outNNN.dat of any particles: `x y z radius` per line, format (7e16.6) (what
+/// Ppohdem10Dem::frame_text writes; also used for the Fortran interface's corrected physics).
+std::string ppohdem10_frame_text(const std::vector<Rvec3>& positions, const std::vector<double>& radius);
+
 /// What `ppohdem simulate --compat ppohdem-1.0` does (apps/cmd_simulate_compat.cpp).
 struct Ppohdem10RunOptions {
   std::filesystem::path work_dir = ".";             ///< inputs and outputs, as the original's cwd

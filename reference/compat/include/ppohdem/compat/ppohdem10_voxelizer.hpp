@@ -33,6 +33,7 @@
 /// there and counts the occurrences.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "ppohdem/geometry/vector.hpp"
@@ -103,6 +104,11 @@ class Ppohdem10VoxelizerStages {
   struct State;
   std::unique_ptr<State> state_;
 };
+
+/// object_mesh.stl as the original's output_object_mesh writes it: the placed mesh with the
+/// input's facet normals, every line list-directed (one leading blank, reals with 17 significant
+/// digits), e.g. "        vertex 24.999997000001500 24.999999700000149 13.000000000000000".
+std::string ppohdem10_object_mesh_stl(const TriangleMesh& placed_mesh);
 
 /// The same computation, keeping every intermediate field.
 Ppohdem10Trace ppohdem10_distance_trace(const TriangleMesh& placed_mesh, const VoxelizerInput& input,
