@@ -12,10 +12,9 @@
 /// Keeps freed heap memory in the process for reuse instead of returning it to the kernel.
 /// The DEM engines free and reallocate MB-sized buffers at every neighbour-list build; with
 /// glibc's defaults (mmap above a dynamic threshold, trim of the heap top) each build page
-/// faults that memory in again, and a page fault costs tens of microseconds on a virtual
-/// machine: on the 10,000-particle bench bed (3,000 steps, 1 thread) 13,157 -> 5,289 minor
-/// faults and 3.38 -> 2.91 s (docs/performance.md). Peak RSS grows by the largest transient
-/// buffers (+5 % there). Results are unaffected.
+/// faults that memory in again, and page faults are dear on a virtual machine
+/// (docs/performance.md "No page faults at list builds"). Peak RSS grows by the largest
+/// transient buffers. Results are unaffected.
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // blocks below 32 MiB (glibc's largest allowed) from the heap

@@ -24,8 +24,8 @@
 #   separate runs; its own table in results.md)
 #   --repeat K run every code K times, interleaved (all codes once, then all again, ...), and
 #              add a table of the best and median loop times and their ratios: on a shared or
-#              virtual machine single runs of one binary vary by up to 1.4x here
-#              (docs/performance.md)
+#              virtual machine single runs of one binary vary more than the differences
+#              looked for (docs/performance.md, the machine)
 # Peers missing from PATH are skipped (install: apt-get install liggghts lammps yade).
 #
 # Per run it prints: particle-steps per second (time loop only: LAMMPS/LIGGGHTS "Loop time",

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The original DEM sample's whole run (150,000 steps, ~45 s on one core) under
+# The original DEM sample's whole run (150,000 steps, one core) under
 # `--compat ppohdem-1.0`, against the original's final full-precision dump and all 300
 # data/outNNN.dat frames (fixtures/ppohdem-1.0/dem-sample/). The default ctest run stops at
 # step 50,000; this is the rest. Usage: BUILD_DIR=build bash ci/compat_dem_full.sh

@@ -27,7 +27,7 @@ PACKAGES=(
 if [ "${1:-}" = "--peers" ]; then
   PACKAGES+=(liggghts lammps)
 fi
-# The aarch64 cross build run under qemu-user (docs/portability.md).
+# The aarch64 cross build run under qemu-user (issue 39).
 if [ "${1:-}" = "--cross" ]; then
   PACKAGES+=(g++-aarch64-linux-gnu qemu-user)
 fi

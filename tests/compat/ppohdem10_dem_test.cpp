@@ -161,7 +161,7 @@ TEST_P(Ppohdem10DemDump, StateIsTheOriginalsBitForBit) {
 INSTANTIATE_TEST_SUITE_P(Steps, Ppohdem10DemDump, ::testing::Values(1L, 2L, 10L, 100L, 500L, 1000L, 5000L));
 
 TEST(Ppohdem10Dem, Step50000AndItsFramesAreTheOriginalsBitForBit) {
-  // 50,000 steps (~12 s): particles have hit the turning cube, the walls and each other.
+  // 50,000 steps: particles have hit the turning cube, the walls and each other.
   const SampleRun run = run_sample_to(50000, true);
   expect_bitwise(run.state, original_state(dump_name(50000)));
   // Guard that this exercises the contact code: the original's dump holds 72 particle-contact
@@ -197,8 +197,8 @@ TEST(Ppohdem10Dem, Step50000AndItsFramesAreTheOriginalsBitForBit) {
   }
 }
 
-// The whole run, 150,000 steps (~45 s): too long for every CI run, so disabled here; run it with
-// ci/compat_dem_full.sh (--gtest_also_run_disabled_tests). Measured 2026-12-01: bitwise.
+// The whole run, 150,000 steps (three times the test above): too long for every CI run, so
+// disabled here; run it with ci/compat_dem_full.sh (--gtest_also_run_disabled_tests).
 TEST(Ppohdem10DemFull, DISABLED_FinalStateAndAll300FramesAreTheOriginalsBitForBit) {
   const SampleRun run = run_sample_to(150000, true);
   expect_bitwise(run.state, original_state("state_final.dat"));

@@ -34,8 +34,9 @@ fs::path scratch(const std::string& name) { return ppohdem::test::scratch("dem_f
 CommandResult run_mpi(int ranks, int threads, const fs::path& scene, const std::string& args) {
   const std::string command = "env OMP_NUM_THREADS=" + std::to_string(threads) +
                               " OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"
-                              // Waiting ranks yield the core and are not pinned: on this shared
-                              // 2-core machine a spinning, pinned 2-rank run was 50x slower (and spinning OpenMP threads 10x).
+                              // Waiting ranks yield the core and are not pinned: on a shared
+                              // 2-core machine spinning, pinned ranks and threads wait for each
+                              // other's descheduled partner (docs/dem.md "Domain decomposition").
                               " OMPI_MCA_mpi_yield_when_idle=1 OMP_WAIT_POLICY=passive '" +
                               std::string(PPOHDEM_MPIEXEC) + "' -n " + std::to_string(ranks) + " --oversubscribe --bind-to none '" +
                               std::string(PPOHDEM_EXE) + "' simulate '" + scene.string() + "' " + args + " 2>&1";
@@ -179,7 +180,7 @@ TEST(FastEngineMpi, LinearLawBedIsBitwiseTheReferencesAcrossRanks) {
         }
       }
     }
-    EXPECT_GE(straddling, 3) << "no contact across a brick face exercised";  // 5 on 2 ranks (2026-12-03)
+    EXPECT_GE(straddling, 3) << "no contact across a brick face exercised";
   }
 }
 

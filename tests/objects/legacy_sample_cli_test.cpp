@@ -41,7 +41,7 @@ TEST(SeedSample, VoxelizeThenSimulateRunsKeepsParticlesInTheBoxAndMovesTheObject
   const fs::path dir = copy_sample();
   const auto vox = test::run_ppohdem("voxelize --quiet input_constants_voxelizer.dat", dir.string());
   ASSERT_EQ(vox.exit_code, 0) << vox.output;
-  const long steps = 5000;  // 10 frames of 500 steps (10 s), ~1 s of CPU
+  const long steps = 5000;  // 10 frames of 500 steps (10 s of simulated time)
   const auto sim = test::run_ppohdem("simulate --quiet --steps 5000 input_params_update.dat", dir.string());
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
 

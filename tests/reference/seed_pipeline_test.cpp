@@ -168,7 +168,7 @@ TEST(SeedPipelineSdfBuilder, FarFieldErrorAndConvergenceOrder) {
                 std::log2(box_far[r - 1] / box_far[r]), std::log2(sphere_far[r - 1] / sphere_far[r]),
                 std::log2(sphere_vs_exact[r - 1] / sphere_vs_exact[r]));
   }
-  // Bounds: the far-field maxima measured when this test was written (2026-11-30) were
+  // Bounds: the far-field maxima measured when this test was written were
   //   box    0.1727, 0.1299, 0.0872   (0.69 h, 1.04 h, 1.39 h)
   //   sphere 0.1000, 0.0812, 0.0599   (0.40 h, 0.65 h, 0.96 h)
   // i.e. first-order upwind error of curved (edge, corner, sphere) fronts, which grows like

@@ -27,7 +27,7 @@
 namespace ppohdem {
 namespace {
 
-// The seed method's error on the dragon at 32^3 against CGAL, measured on 2026-11-30 with this
+// The seed method's error on the dragon at 32^3 against CGAL, measured with this
 // test (printed below) and ppohdem-sdf-study: max 0.764963 h, RMS 0.2380 h. The test allows 10 %
 // more, so a change that makes the sweep worse fails while rounding-level changes do not.
 constexpr double kSeedDragon32MaxErrorH = 0.765;

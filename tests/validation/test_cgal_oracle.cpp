@@ -77,6 +77,25 @@ TEST(CgalOracle, AxisAlignedBoxMatchesAnalyticDistanceInsideAndOutside) {
   EXPECT_EQ(report.inside_nodes, inside);
 }
 
+// The point-list form (pd.oracles.signed_distance) is the grid form at the nodes, bit for bit,
+// and the analytic box distance off the grid.
+TEST(CgalOracle, AtPointsEqualsTheGridFormAndTheAnalyticBox) {
+  const TriangleMesh mesh = box_mesh(kBoxLo, kBoxHi);
+  const ScalarField grid = cgal_signed_distance(mesh, kBoxGrid, 1);
+  std::vector<Vec3> nodes;
+  for (int k = 0; k < kBoxGrid.nodes[2]; ++k)
+    for (int j = 0; j < kBoxGrid.nodes[1]; ++j)
+      for (int i = 0; i < kBoxGrid.nodes[0]; ++i) nodes.push_back(kBoxGrid.position(i, j, k));
+  const std::vector<double> at = validation::cgal_signed_distance_at(mesh, nodes, 2);
+  ASSERT_EQ(at.size(), grid.values.size());
+  for (std::size_t n = 0; n < at.size(); ++n) ASSERT_EQ(at[n], grid.values[n]) << n;
+  const std::vector<Vec3> off = {Vec3(0.1, 0.2, 0.3), Vec3(1.3, -0.7, 0.05), Vec3(-0.9, 0.0, 0.0)};
+  const std::vector<double> phi = validation::cgal_signed_distance_at(mesh, off, 1);
+  // Same rounding argument as the box test above: a few ulps of coordinates ~1.
+  for (std::size_t n = 0; n < off.size(); ++n) EXPECT_NEAR(phi[n], box_sdf(kBoxLo, kBoxHi, off[n]), 1e-14);
+  EXPECT_THROW(validation::cgal_signed_distance_at(mesh, {Vec3(std::nan(""), 0, 0)}, 1), InputError);
+}
+
 TEST(CgalOracle, PointsOnTheSurfaceAreExactlyZero) {
   const TriangleMesh box = box_mesh(kBoxLo, kBoxHi);
   // face interior, the diagonal shared by the two +x triangles, a box edge, a corner

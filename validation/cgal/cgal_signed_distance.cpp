@@ -112,9 +112,12 @@ std::optional<SurfaceMesh> closed_sign_mesh(const TriangleMesh& mesh, OracleRepo
 
 }  // namespace
 
-ScalarField cgal_signed_distance(const TriangleMesh& mesh, const GridSpec& grid, int threads,
-                                 OracleReport* report_out) {
-  check_inputs(mesh, grid, threads);
+namespace {
+
+// The oracle at `count` points, point n at position(n): the grid and the point-list forms.
+template <class Position>
+std::vector<double> signed_distances(const TriangleMesh& mesh, long long count, Position position, int threads,
+                                     OracleReport* report_out) {
   OracleReport report;
   report.input_triangles = mesh.size();
 #if !defined(PPOHDEM_WITH_OPENMP)
@@ -134,7 +137,8 @@ ScalarField cgal_signed_distance(const TriangleMesh& mesh, const GridSpec& grid,
   DistanceTree distance_tree(triangles.cbegin(), triangles.cend());
   distance_tree.build();
   distance_tree.accelerate_distance_queries();
-  (void)distance_tree.squared_distance(Point(grid.origin.x(), grid.origin.y(), grid.origin.z()));
+  const Vec3 first = count > 0 ? position(0) : Vec3::Zero();
+  (void)distance_tree.squared_distance(to_point(first));
 
   const std::optional<SurfaceMesh> sign_mesh = closed_sign_mesh(mesh, report);
   report.sign_valid = sign_mesh.has_value();
@@ -144,14 +148,12 @@ ScalarField cgal_signed_distance(const TriangleMesh& mesh, const GridSpec& grid,
     side_tree = std::make_unique<SideTree>(faces(*sign_mesh).first, faces(*sign_mesh).second,
                                            *sign_mesh);
     side_tree->build();
-    (void)SideOfMesh(*side_tree)(Point(grid.origin.x(), grid.origin.y(), grid.origin.z()));
+    (void)SideOfMesh(*side_tree)(to_point(first));
   }
   report.build_seconds = seconds_since(build_start);
 
-  ScalarField field(grid);
-  const long long node_count = static_cast<long long>(grid.node_count());
-  const long long row = grid.nodes[0];
-  const long long plane = row * grid.nodes[1];
+  std::vector<double> values(static_cast<std::size_t>(count));
+  const long long node_count = count;
   std::size_t boundary_nodes = 0;
   const auto query_start = Clock::now();
 #if defined(PPOHDEM_WITH_OPENMP)
@@ -166,11 +168,7 @@ ScalarField cgal_signed_distance(const TriangleMesh& mesh, const GridSpec& grid,
 #pragma omp for schedule(dynamic, 256)
 #endif
     for (long long n = 0; n < node_count; ++n) {
-      const int i = static_cast<int>(n % row);
-      const int j = static_cast<int>((n / row) % grid.nodes[1]);
-      const int k = static_cast<int>(n / plane);
-      const Vec3 x = grid.position(i, j, k);
-      const Point p = to_point(x);
+      const Point p = to_point(position(n));
       const double distance = std::sqrt(distance_tree.squared_distance(p));  // [world units]
       double phi = distance;
       if (side) {
@@ -180,14 +178,46 @@ ScalarField cgal_signed_distance(const TriangleMesh& mesh, const GridSpec& grid,
           case CGAL::ON_UNBOUNDED_SIDE: break;
         }
       }
-      field.values[static_cast<std::size_t>(n)] = phi;
+      values[static_cast<std::size_t>(n)] = phi;
     }
   }
   report.query_seconds = seconds_since(query_start);
   report.boundary_nodes = boundary_nodes;
-  for (double v : field.values) report.inside_nodes += v < 0.0 ? 1 : 0;
+  for (double v : values) report.inside_nodes += v < 0.0 ? 1 : 0;
   if (report_out) *report_out = std::move(report);
+  return values;
+}
+
+}  // namespace
+
+ScalarField cgal_signed_distance(const TriangleMesh& mesh, const GridSpec& grid, int threads,
+                                 OracleReport* report_out) {
+  check_inputs(mesh, grid, threads);
+  const long long row = grid.nodes[0];
+  const long long plane = row * grid.nodes[1];
+  ScalarField field(grid);
+  field.values = signed_distances(
+      mesh, static_cast<long long>(grid.node_count()),
+      [&](long long n) {
+        return grid.position(static_cast<int>(n % row), static_cast<int>((n / row) % grid.nodes[1]),
+                             static_cast<int>(n / plane));
+      },
+      threads, report_out);
   return field;
+}
+
+std::vector<double> cgal_signed_distance_at(const TriangleMesh& mesh, const std::vector<Vec3>& points, int threads,
+                                            OracleReport* report) {
+  GridSpec one_node;  // check_inputs checks the mesh and threads; the points are checked here
+  check_inputs(mesh, one_node, threads);
+  for (std::size_t n = 0; n < points.size(); ++n) {
+    if (!points[n].allFinite()) {
+      throw InputError("cgal_signed_distance_at: point " + std::to_string(n) + " has a non-finite coordinate");
+    }
+  }
+  return signed_distances(
+      mesh, static_cast<long long>(points.size()), [&](long long n) { return points[static_cast<std::size_t>(n)]; },
+      threads, report);
 }
 
 ScalarField CgalOracleBuilder::build(const TriangleMesh& mesh, const GridSpec& grid,

@@ -5,10 +5,14 @@
 
 namespace ppohdem::validation {
 
+double hertz_elastic_force(double overlap, double r_eff, double e_star) {
+  return overlap > 0.0 ? 4.0 / 3.0 * e_star * std::sqrt(r_eff) * std::pow(overlap, 1.5) : 0.0;
+}
+
 HertzImpactTheory hertz_impact(double m_eff, double r_eff, double e_star, double v) {
   HertzImpactTheory h;
   h.max_overlap = std::pow(15.0 * m_eff * v * v / (16.0 * e_star * std::sqrt(r_eff)), 0.4);
-  h.max_force = 4.0 / 3.0 * e_star * std::sqrt(r_eff) * std::pow(h.max_overlap, 1.5);
+  h.max_force = hertz_elastic_force(h.max_overlap, r_eff, e_star);
   const double beta = std::tgamma(0.4) * std::tgamma(0.5) / std::tgamma(0.9);  // B(2/5, 1/2)
   h.duration = 2.0 * h.max_overlap / v * 0.4 * beta;
   return h;

@@ -34,6 +34,9 @@ struct HertzImpactTheory {
   double max_force = 0.0;    ///< [N]
   double duration = 0.0;     ///< [s]
 };
+/// The Hertz normal force F = (4/3) E* sqrt(R*) delta^{3/2} at overlap delta >= 0 [N]
+/// (Johnson 1985, eq. 4.23); 0 for delta <= 0.
+double hertz_elastic_force(double overlap, double r_eff, double e_star);
 /// Elastic Hertz impact at approach speed v [m/s].
 HertzImpactTheory hertz_impact(double m_eff, double r_eff, double e_star, double v);
 

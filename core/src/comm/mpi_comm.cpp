@@ -153,8 +153,7 @@ namespace {
 /// True when a process manager (mpirun/mpiexec of Open MPI or MPICH, srun) started this
 /// process: they set these variables. A program started on its own is one rank, and MPI_Init
 /// would only start Open MPI's singleton daemon (orted), which then polls on one of the cores
-/// the computation uses (measured 2026-12-01: ~5 % of the CPU samples of a 2-thread run on
-/// 2 cores, perf).
+/// the computation uses (docs/performance.md "No MPI_Init without mpirun").
 bool started_by_a_process_manager() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "MPI_LOCALNRANKS"}) {
     if (std::getenv(name) != nullptr) return true;

@@ -50,7 +50,8 @@ double hertz_damping_ratio_for_restitution(double restitution) {
     throw InputError("restitution must be in (0, 1], got " + std::to_string(restitution));
   }
   if (restitution == 1.0) return 0.0;
-  // The bisection costs ~0.1 s; scenes and tests ask for the same few values repeatedly.
+  // The bisection is slow next to a lookup, and scenes and tests ask for the same few values
+  // repeatedly.
   static std::mutex mutex;
   static std::map<double, double> cache;
   const std::lock_guard<std::mutex> lock(mutex);

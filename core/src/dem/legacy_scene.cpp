@@ -177,7 +177,7 @@ Scene read_legacy_scene(const fs::path& params_file, const LegacySceneOptions& o
   // The first column starts inside the wall x = 0 by up to 0.1 + 0.005 jitter - 0.12 radius,
   // i.e. 0.025 m = 21% of its radius (as in the original; the wall pushes it out within a few
   // steps), and the seed's soft springs let the settled pile sink deep: the full 150,000-step
-  // sample reaches 64.9% of a radius (measured 2026-12-01, docs/reliability.md). The run check
+  // sample reaches 64.9% of a radius (docs/reliability.md). The run check
   // (run_diagnostics.hpp: initial overlap + max_overlap, default 10%) therefore allows a whole
   // radius more here: it stops only particles passing through each other or a wall.
   scene.checks.max_overlap = 1.0;

@@ -66,7 +66,8 @@ std::string RunDiagnostics::time_step_note() const {
 
 std::optional<std::string> RunDiagnostics::check(const DemEngine& engine) {
   // Screening without a copy of the particle state (engine.particles() plus the per-particle
-  // scans cost about a fifth of a fast-engine step at 10,000 particles: docs/performance.md):
+  // scans every step were a large part of a fast-engine step: docs/performance.md "Run checks
+  // without a copy of the state"):
   // - the energy sums are not finite as soon as one position (m g.x: 0 * NaN and 0 * inf are
   //   NaN as well), velocity or angular velocity is not, and a non-finite force or torque enters
   //   the velocities at its kick (this step or the next), so the full scan runs only then and

@@ -27,7 +27,11 @@ namespace fs = std::filesystem;
 
 class SceneParser {
  public:
-  explicit SceneParser(fs::path file) : file_(std::move(file)), name_(file_.string()) {}
+  explicit SceneParser(fs::path file) : file_(std::move(file)), name_(file_.string()), base_dir_(file_.parent_path()) {}
+  /// A scene given as text (read_scene_text): `name` stands for the file in messages.
+  SceneParser(std::string text, std::string name, fs::path base_dir, std::optional<Particles> particles)
+      : name_(std::move(name)), base_dir_(std::move(base_dir)), text_(std::move(text)),
+        given_particles_(std::move(particles)) {}
 
   Scene parse() {
     toml::table root = parse_toml();
@@ -48,8 +52,11 @@ class SceneParser {
     check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio"});
     const std::string model = require_string(contact, "contact", "model");
     read_materials(root, model == "hertz-mindlin", s);
-    const toml::table& particles = require_table(root, "particles");
-    read_particles(particles, s);
+    if (given_particles_) {
+      read_given_particles(root, s);
+    } else {
+      read_particles(require_table(root, "particles"), s);
+    }
 
     if (model == "hertz-mindlin") {
       validate(s.material, true, name_);
@@ -154,7 +161,7 @@ class SceneParser {
   /// The file parsed by toml++, after the guards of toml_hardened.hpp: non-ASCII bytes are
   /// refused outside comments, and a toml++ precondition failure becomes an InputError.
   toml::table parse_toml() const {
-    const std::string text = read_file_bytes(file_);
+    const std::string text = text_ ? *text_ : read_file_bytes(file_);
     const detail::NonAsciiByte bad = detail::first_non_ascii_outside_comments(text);
     if (bad.line != 0) {
       char byte[8];
@@ -287,7 +294,26 @@ class SceneParser {
 
   fs::path relative_to_scene(const std::string& path) const {
     const fs::path p(path);
-    return p.is_absolute() ? p : file_.parent_path() / p;
+    return p.is_absolute() ? p : base_dir_ / p;
+  }
+
+  // Particles given by the caller (read_scene_text): [particles] may hold allow_overlap only.
+  void read_given_particles(const toml::table& root, SimulationSetup& s) const {
+    if (const toml::node* n = root.get("particles")) {
+      const toml::table* t = n->as_table();
+      if (!t) fail(n, "[particles] must be a table");
+      check_keys(*t, "particles (the particles are given as arrays)", {"allow_overlap"});
+      s.allow_initial_overlap = optional_bool(*t, "particles", "allow_overlap").value_or(false);
+    }
+    s.particles = *given_particles_;
+    for (const Particle& p : s.particles) {
+      const std::size_t count = std::max<std::size_t>(1, s.material_names.size());
+      if (p.material >= count) {
+        throw InputError(name_, 0, "particle id " + std::to_string(p.id) + ": material index " +
+                                       std::to_string(p.material) + " but the scene has " +
+                                       std::to_string(count) + " material(s)");
+      }
+    }
   }
 
   void read_particles(const toml::table& t, SimulationSetup& s) const {
@@ -520,6 +546,9 @@ class SceneParser {
 
   fs::path file_;
   std::string name_;
+  fs::path base_dir_;
+  std::optional<std::string> text_;
+  std::optional<Particles> given_particles_;
 };
 
 }  // namespace
@@ -527,6 +556,11 @@ class SceneParser {
 Scene read_scene(const std::filesystem::path& file) {
   if (!fs::exists(file)) throw InputError(file.string(), 0, "scene file does not exist");
   return SceneParser(file).parse();
+}
+
+Scene read_scene_text(std::string text, const std::string& name, const std::filesystem::path& base_dir,
+                      std::optional<Particles> particles) {
+  return SceneParser(std::move(text), name, base_dir, std::move(particles)).parse();
 }
 
 }  // namespace ppohdem::dem

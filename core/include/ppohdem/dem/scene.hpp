@@ -3,7 +3,8 @@
 /// Scene files (TOML). Every key, with units; keys not listed are errors that name the key.
 ///
 ///   [simulation] dt [s], steps, gravity = [gx, gy, gz] [m/s^2], energy_balance = true (false:
-///                no contact energy book-keeping, 10 % faster in the fast engine; the three
+///                no contact energy book-keeping, which the fast engine then skips
+///                (docs/performance.md "Energy book-keeping optional"); the three
 ///                contact terms of energy.csv are nan and the energy check is off)
 ///   [material]   density [kg/m^3], young [Pa], poisson, restitution, friction, name
 ///                (optional, default "default"): the scene's one material; OR
@@ -40,6 +41,7 @@
 /// Only [simulation], [material], [contact] and [particles] are required.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,5 +77,12 @@ struct Scene {
 /// Reads and checks a scene; throws InputError(file, line, ...) naming the key. Does not run
 /// validate_setup (the engine does, so --force can still be applied).
 Scene read_scene(const std::filesystem::path& file);
+
+/// The same from TOML text (the Python module's Scene.from_dict): `name` stands for the file
+/// in error messages and relative paths resolve against `base_dir`. With `particles`, those
+/// are the scene's particles (material = index into the scene's materials, checked here) and
+/// [particles] may hold allow_overlap only; without, [particles] is required as in a file.
+Scene read_scene_text(std::string text, const std::string& name, const std::filesystem::path& base_dir,
+                      std::optional<Particles> particles = std::nullopt);
 
 }  // namespace ppohdem::dem

@@ -50,7 +50,8 @@ struct SimulationSetup {
   bool force_time_step = false;        ///< accept dt above the stability limit (--force)
   /// Track the contact energies (elastic, dissipated, boundary work) and check the balance.
   /// false ([simulation] energy_balance = false): the engines skip that book-keeping (the
-  /// fast engine's kernel has no energy terms; 10 % of a settled bed's time), report those
+  /// fast engine's kernel has no energy terms: docs/performance.md "Energy book-keeping
+  /// optional"), report those
   /// three terms as NaN, and the run's energy check is off; trajectories are the same bit
   /// for bit. Kinetic, rotational and gravitational energies are always computed.
   bool energy_balance = true;

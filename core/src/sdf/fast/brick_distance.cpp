@@ -17,8 +17,8 @@ constexpr std::size_t kLeafNodes = 8;
 constexpr std::size_t kFewCandidates = 8;
 constexpr int kMaxDepth = 8;
 /// Band mode, beyond the band: one transferred triangle per box of at most kTransferLeaf nodes per
-/// axis. Dragon 128^3, band 3 (2026-12-01, docs/performance.md): 2 gives 4.5 distance evaluations
-/// per node, max/RMS error 3.8/0.14 h; 4 gives 3.2 per node, 5.6/0.22 h (chosen: the speed target).
+/// axis. 4 rather than 2 trades a larger (still proven) error beyond the band for fewer distance
+/// evaluations per node, for the speed target (docs/performance.md "Trials that were dropped").
 constexpr int kTransferLeaf = 4;
 /// Band mode: buckets of a leaf box's candidates by their gap to the box (scan_buckets()).
 constexpr int kLeafBuckets = BrickDistance::kLeafBuckets;
@@ -36,8 +36,8 @@ inline double gap2_to_bounds(const Tri& tri, const Point& c) {
   return gx * gx + gy * gy + gz * gz;
 }
 /// Shared candidates: clusters are kept whole while their box diagonal is at most kOpenRatio x
-/// the half-diagonal of the box of nodes they are filtered for (4 did best of 0.5, 1, 2, 4 on the
-/// dragon at 64^3, 2026-12-01).
+/// the half-diagonal of the box of nodes they are filtered for (4 took the fewest instructions of
+/// 0.5, 1, 2 and 4).
 constexpr double kOpenRatio = 4.0;
 
 /// Calls f(child) for the (up to 8) halves of `box`, split at the middle of every axis with more
@@ -312,7 +312,7 @@ void BrickDistance::transfer_fill(const NodeBox& part, const PreparedTriangle& t
     return;
   }
   // (Deciding each x-row of an undecided box as well was tried: fewer distance calls, but more
-  // instructions in all at 256^3, callgrind, 2026-12-01.)
+  // instructions in all.)
   for (int k = part.lo[2]; k < part.hi[2]; ++k) {
     for (int j = part.lo[1]; j < part.hi[1]; ++j) general(j, k, row_of(j, k));
   }

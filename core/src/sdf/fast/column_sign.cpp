@@ -284,8 +284,8 @@ void ColumnSign::inside_on_column(int i, int j, int k_begin, int k_end, char* in
   }
   if (!winding_) {
     // Parity of the crossings above (the same walk as below), counted as an index difference:
-    // (end - above) % 2 on the pointers divided by sizeof(Crossing) per node (callgrind, dragon
-    // 256^3: 11 of the 37 instructions per node of this function, 2026-12-01).
+    // (end - above) % 2 on the pointers would divide by sizeof(Crossing) at every node, a large
+    // part of this loop's instructions.
     const std::size_t last = static_cast<std::size_t>(end - crossings_.data());
     std::size_t at = static_cast<std::size_t>(above - crossings_.data());
     for (int k = k_begin; k < k_end; ++k) {

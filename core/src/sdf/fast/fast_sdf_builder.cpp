@@ -73,9 +73,9 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
   const double coordinate_scale =
       std::max(grid.origin.cwiseAbs().maxCoeff(), grid.upper_corner().cwiseAbs().maxCoeff());
   const bool band_mode = options_.band_cells > 0.0;
-  // Oriented boxes pay off when every node makes a tree query (exact mode), not for the brick
-  // centres of band mode (dragon 128^3, band 3: 0.28e9 more instructions to build, 0.015e9 fewer
-  // in the queries; callgrind, 2026-12-01). The field is the same either way.
+  // Oriented boxes pay off when every node makes a tree query (exact mode), not for the few
+  // brick-centre queries of band mode, where fitting them costs more than they save
+  // (docs/performance.md "How the fast builder works"). The field is the same either way.
   const fast::TriangleTree tree(mesh, coordinate_scale, /*oriented_boxes=*/!band_mode);
   const fast::ColumnSign sign(mesh, grid);
   const double band = band_mode ? options_.band_cells * grid.spacing.maxCoeff() : std::numeric_limits<double>::infinity();

@@ -27,12 +27,11 @@ constexpr std::uint32_t kOrientedMaxTriangles = 1024;
 /// SAH-based bounding volume hierarchies", IEEE Symposium on Interactive Ray Tracing 2007): the
 /// centroids are binned along each axis over their extent (min(kSahBins, n) bins), and the split
 /// between bins minimizing area(left) count(left) + area(right) count(right) (axis-aligned boxes of
-/// the triangles) is taken. Against the median split along the longest centroid extent formerly
-/// used (callgrind, 64^3, 1 thread, 2026-12-01, docs/performance.md): queries 2.42e9 -> 2.07e9 on
-/// the dragon, 2.42e9 -> 2.20e9 on the closed bunny; building the tree costs 0.22e9 / 0.16e9 more.
-/// 16 bins gave 2.10e9 and 2.21e9; the fields are unchanged bit for bit. Only the trees with
-/// oriented boxes (exact mode) use it: in band mode the median split's cheaper build wins (dragon
-/// 64^3 --band 3, whole program 1.54e9 with the median split, 1.79e9 with the SAH).
+/// the triangles) is taken. Its leaves send the queries to fewer neighbouring leaves than the
+/// median split along the longest centroid extent, at a dearer build; the fields are unchanged
+/// bit for bit. Only the trees with oriented boxes (exact mode) use it: in band mode, with few
+/// queries, the median split's cheaper build wins (docs/performance.md "Surface-area-heuristic
+/// split" and "Trials that were dropped").
 constexpr int kSahBins = 32;
 /// Below this depth the split is the SAH's, deeper the median's (a bound on the tree's depth for
 /// the traversals' fixed stacks of 128 entries: at most 48 + log2(n) levels).
@@ -400,9 +399,8 @@ void TriangleTree::fit_oriented_box(const std::vector<Triangle>& input, const st
 namespace {
 
 /// |p - box|^2, the same value as the former loop (max of three, then (x^2 + y^2) + z^2); always
-/// inlined: GCC 12 kept box_squared_distance() out of line with an initializer-list max, 0.29e9 of
-/// the 0.61e9 instructions of the brick-centre queries (dragon 256^3, band 3); exact mode, dragon
-/// 64^3, whole program: 5.24e9 -> 4.83e9 instructions (callgrind, 2026-12-01).
+/// inlined, because GCC 12 kept box_squared_distance() with an initializer-list max out of line,
+/// in the hottest loop of the queries (docs/performance.md "Band mode, second pass").
 [[gnu::always_inline]] inline double point_box_squared(const double lo[3], const double hi[3], double px, double py,
                                                        double pz) {
   const double dx = std::max(std::max(lo[0] - px, px - hi[0]), 0.0);
@@ -865,8 +863,9 @@ template <class L, class V = typename L::V, class M = typename L::M>
   return L::either(done, face);
 }
 
-/// From this many points within a triangle's box on, their distances are computed in lanes.
-/// (Measured 2026-12-02, dragon 128^3, 1 thread, AVX-512: 1 and 2 alike, 3 slower, never 9 % slower.)
+/// From this many points within a triangle's box on, their distances are computed in lanes: from
+/// 1 or 2 points on they are equally fast, from 3 on slower (docs/performance.md "Trials that
+/// were dropped").
 constexpr int kLanesMinPoints = 2;
 
 template <class L>

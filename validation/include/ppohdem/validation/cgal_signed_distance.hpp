@@ -49,6 +49,12 @@ struct OracleReport {
 ScalarField cgal_signed_distance(const TriangleMesh& mesh, const GridSpec& grid, int threads = 1,
                                  OracleReport* report = nullptr);
 
+/// The same at arbitrary points (the Python module's pd.oracles.signed_distance): phi at
+/// points[n]; report->inside_nodes counts the points with phi < 0. Throws InputError also on a
+/// non-finite point.
+std::vector<double> cgal_signed_distance_at(const TriangleMesh& mesh, const std::vector<Vec3>& points,
+                                            int threads = 1, OracleReport* report = nullptr);
+
 /// The oracle behind the SdfBuilder interface (method name "cgal"), so contract tests can
 /// run it like any builder. Oracle warnings are copied into SdfReport::warnings.
 class CgalOracleBuilder final : public SdfBuilder {

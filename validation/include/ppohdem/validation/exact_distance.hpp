@@ -8,8 +8,8 @@
 /// The squared distance is computed by CGAL::squared_distance in the Epeck kernel
 /// (CGAL::Exact_predicates_exact_constructions_kernel: lazy exact rationals), so it is the
 /// exact squared distance between the double-precision inputs; only the final conversion to
-/// double (<= 1 ulp) and sqrt (0.5 ulp) round. O(triangles) per point and slow (~10 us per
-/// triangle): meant for a few hundred points on small meshes, not for fields.
+/// double (<= 1 ulp) and sqrt (0.5 ulp) round. O(triangles) per point and slow (exact
+/// arithmetic per triangle): meant for a few hundred points on small meshes, not for fields.
 #include "ppohdem/mesh/triangle_mesh.hpp"
 
 namespace ppohdem::validation {

@@ -18,9 +18,9 @@
 ///    the minimum over the parent's candidates (exact, since the child centre lies in the parent
 ///    box) and its candidates are filtered out of the parent's; the nodes of a 2^3 box scan its
 ///    candidate triangles (vectorized bounding-box test, exact distance where it can win).
-///    Measured (docs/performance.md): MORE instructions per node than the per-node queries,
-///    because the candidate shell of a box of half-diagonal r is ~2r thick, so it is not the
-///    default.
+///    It takes MORE instructions per node than the per-node queries, because the candidate
+///    shell of a box of half-diagonal r is ~2r thick, so it is not the default
+///    (docs/performance.md "How the fast builder works").
 ///  Rounding: every bound carries the tree's slack (1e-12 x the coordinate scale, thousands of
 ///  times the rounding of one distance), so the pruning is conservative and the result is the
 ///  same minimum as a brute-force loop over all triangles.
@@ -37,7 +37,7 @@
 ///    the candidates of its 2^3 box: the minimum over them (vectorized box test, exact distance
 ///    where it can win, warm-started from the previous node) is the minimum over ALL triangles,
 ///    bit for bit the exact mode's value (tested). Nodes found beyond the band also take t_b.
-///    Cost (2026-12-01, same results bit for bit): the halves' candidate lists come from ONE pass
+///    Cost (same results bit for bit): the halves' candidate lists come from ONE pass
 ///    over the parent's list (per-axis gaps to both halves, summed per half) with the gaps kept, so
 ///    the near filter and the half centre's search skip on them; a leaf's candidates are grouped
 ///    in buckets of increasing gap to the leaf box, and a node tests only the buckets whose
@@ -49,7 +49,7 @@
 ///  node's box of at most kTransferLeaf^3 nodes. The value is the distance to a real triangle
 ///  (never below the truth) and at most d(x) + 2 r_b + r' above it (r_b the brick's
 ///  half-diagonal, r' the small box's; proof in brick_distance.cpp); measured errors in
-///  docs/performance.md. For a box of at most kTransferLeaf^3 nodes t_c is found directly as the
+///  docs/performance.md "Targets". For a box of at most kTransferLeaf^3 nodes t_c is found directly as the
 ///  nearest of S u {t_b} to c (every minimizer is in K; bounding-box pruning), and when the whole
 ///  box lies in one vertex's Voronoi region of t_c (decided with a margin) each node takes
 ///  |x - v|^2 as squared_distance() computes it; same values bit for bit. Everything depends only on the brick's global position: thread and

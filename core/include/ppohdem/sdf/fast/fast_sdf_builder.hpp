@@ -5,11 +5,12 @@
 /// over z-slabs. Same contract and convention as sdf::reference::ExactSdfBuilder:
 ///   phi(x) = s(x) min_t |x - closest_point(x, t)|   [m],  s = -1 inside, +1 outside.
 ///
-/// How (see docs/performance.md, SDF section):
-///  - distance: bricks of 8^3 nodes share their search (brick_distance.hpp): one BVH traversal
-///    collects the triangles that can be nearest to any node of the brick (Lipschitz bound from
-///    the brick centre's exact distance), halved boxes filter them further, each node takes the
-///    minimum over its box's few candidates;
+/// How (see docs/performance.md "How the fast builder works"):
+///  - distance: bricks of 8^3 nodes (brick_distance.hpp); exact mode queries the BVH once per
+///    node, 8 nodes per traversal in SIMD lanes, warm-started from a neighbour's nearest
+///    triangle; band mode collects per brick the triangles that can be nearest to a node within
+///    the band (Lipschitz bound from the brick centre's exact distance), halved boxes filter them
+///    further, and each node takes the minimum over its box's few candidates;
 ///  - sign: crossings of the z-columns (column_sign.hpp): exact parity for closed meshes, the
 ///    cone-closed winding number for open ones;
 ///  - determinism: every node's value is a pure function of the node and the mesh (the
@@ -43,11 +44,12 @@ struct FastSdfOptions {
   /// Band mode: 0 (default) = exact everywhere. W > 0: exact wherever |phi| <= W h_max
   /// (h_max the largest spacing); farther nodes get the exact distance to one triangle
   /// transferred from the surrounding brick centres (an upper bound; the sign is exact
-  /// everywhere). See brick_distance.hpp and docs/performance.md for the measured error.
+  /// everywhere). See brick_distance.hpp and docs/performance.md "Targets" for the measured error.
   double band_cells = 0.0;
   /// Exact nodes by the shared-candidate scheme of brick_distance.hpp instead of one BVH query per
-  /// node. Same field bit for bit (both are the exact minimum); slower on the meshes measured
-  /// (docs/performance.md), kept as the documented alternative and tested for equality.
+  /// node. Same field bit for bit (both are the exact minimum); more instructions per node
+  /// (docs/performance.md "How the fast builder works"), kept as the documented alternative and
+  /// tested for equality.
   bool shared_candidates = false;
   /// If not null, the build adds its work counters here (not synchronized across builds).
   FastSdfCounters* counters = nullptr;

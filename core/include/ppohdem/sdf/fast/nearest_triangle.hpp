@@ -11,8 +11,8 @@
 /// Query: best-first descent, nearer child first, pruning a box when its distance exceeds the
 /// best distance so far plus a slack of 1e-12 times the coordinate scale; in a leaf, a triangle
 /// whose own bounding box is beyond that bound is skipped before the exact distance, and the
-/// stack keeps each box's distance so it is not recomputed when popped (measured 2026-11-30:
-/// about 10 % less CPU time for the whole dragon run at 80^3, 1 thread, 3 runs each). The slack makes the
+/// stack keeps each box's distance so it is not recomputed when popped (docs/performance.md
+/// "Cheaper queries"). The slack makes the
 /// pruning conservative with respect to the rounding of the triangle distance, so the returned
 /// squared distance is the minimum of the computed per-triangle values over ALL triangles,
 /// whatever the starting guess: the result does not depend on the traversal order, on the hint,
@@ -26,22 +26,20 @@
 /// nearly flat leaves are thin. Any orthonormal frame gives a valid bound, so no cone test is
 /// needed; the box's extents are widened by the slack, which covers the rounding of the frame's
 /// orthonormality and of the projections (see lower_bound_squared()). The query reads both
-/// children's boxes from their parent (ChildPair, two SSE2 lanes). Measured 2026-12-01 (dragon
-/// 64^3, 1 thread, callgrind): 23 -> 10 leaves opened and 83 -> 61 internal nodes visited per
-/// query, 4.24e9 -> 2.39e9 instructions in the queries; the result is unchanged bit for bit.
-/// Band mode builds the tree without them (their fitting costs ~0.28e9 instructions on the
-/// dragon, more than its brick-centre queries gain).
+/// children's boxes from their parent (ChildPair, two SSE2 lanes). A query opens fewer than half
+/// the leaves it opened with axis-aligned boxes, and the result is unchanged bit for bit
+/// (docs/performance.md "Oriented boxes in the BVH"). Band mode builds the tree without them:
+/// fitting them costs more than its few brick-centre queries gain.
 ///
 /// Packets (exact mode): the brick's nodes are queried 2 x 2 rows at a time, one traversal per
 /// packet of 4 nodes (nearest_packet()). A query is bound by latency (each visit waits for its
 /// box distances and a branch on them); the 4 points' independent box distances of a visit (two
 /// AVX passes for the children, one for a leaf's triangle boxes) overlap, and the branches are
-/// shared. Measured 2026-12-01 (callgrind, 64^3, 1 thread): queries 2.07e9 -> 1.67e9 instructions
-/// (dragon), 2.20e9 -> 1.89e9 (closed bunny); the field is unchanged bit for bit. Tried first and
-/// dropped: the binary tree collapsed into 4-wide nodes (children's oriented boxes in one AVX
-/// pass): 2.07e9 -> 1.89e9 instructions but no faster in time (lower IPC).
+/// shared; the field is unchanged bit for bit (docs/performance.md "Packets of grid nodes"; the
+/// 4-wide nodes tried instead took fewer instructions but no less time: "Trials that were
+/// dropped").
 ///
-/// Lanes (2026-12-02): one point per SIMD lane, 8 points (4 x 2 rows) per traversal in AVX-512,
+/// Lanes: one point per SIMD lane, 8 points (4 x 2 rows) per traversal in AVX-512,
 /// 4 in AVX (an 8-point packet then takes two traversals of 2 x 2). Both children's bounds of all
 /// points are whole-register operations, the masks of the points within their bounds are register
 /// compares, a pending node keeps one register of bounds (NaN where a point is not active), a
@@ -49,13 +47,13 @@
 /// distances to a regular triangle of 2 or more points within its box are computed in lanes
 /// (Ericson's regions in the scalar order, each lane taking the first that holds). Every lane does
 /// the scalar code's operations without FMA (nearest_triangle.cpp is compiled with
-/// -ffp-contract=off), so the results are unchanged bit for bit. Measured (dragon 128^3, 1
-/// thread): see docs/performance.md, "Lanes of 8 grid nodes".
+/// -ffp-contract=off), so the results are unchanged bit for bit (docs/performance.md, "Lanes of 8
+/// grid nodes").
 ///
-/// Split: with oriented boxes, a binned surface-area heuristic (32 bins; measured 2026-12-01,
-/// dragon 64^3, 1 thread, callgrind: 2.42e9 -> 2.07e9 instructions in the queries, results
-/// unchanged bit for bit); without (band mode), the median of the centroids along their longest
-/// extent, which is cheaper to build. See kSahBins in nearest_triangle.cpp.
+/// Split: with oriented boxes, a binned surface-area heuristic (32 bins; fewer leaves visited per
+/// query, results unchanged bit for bit: docs/performance.md "Surface-area-heuristic split");
+/// without (band mode), the median of the centroids along their longest extent, which is cheaper
+/// to build. See kSahBins in nearest_triangle.cpp.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -86,8 +84,8 @@ class TriangleTree {
 
   /// `coordinate_scale` [m]: the largest coordinate magnitude of the query points (e.g. the
   /// grid's corners), so the pruning slack also covers the rounding of far-away queries.
-  /// `oriented_boxes`: fit oriented boxes to the lower levels (fewer boxes opened per query,
-  /// ~3x the tree's build time: worth it when every node of a grid is queried, not in band mode);
+  /// `oriented_boxes`: fit oriented boxes to the lower levels (fewer boxes opened per query, a
+  /// dearer build: worth it when every node of a grid is queried, not in band mode);
   /// without, the query measures the axis-aligned boxes. The results are the same either way.
   explicit TriangleTree(const TriangleMesh& mesh, double coordinate_scale = 0.0, bool oriented_boxes = true);
 

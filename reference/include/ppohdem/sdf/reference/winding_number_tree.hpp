@@ -41,7 +41,7 @@
 /// surface has ~ sqrt(n) boundary edges). Query: the nodes whose boxes contain p, plus one cap per
 /// sibling of those, each cap ~ sqrt(n) edges: far fewer than N solid angles (measured on the open
 /// Stanford bunny, N = 69,451, at the nodes of a 64^3 grid around it: 1,211 on average, at most
-/// 4,319; build 0.2 s).
+/// 4,319).
 #include <array>
 #include <cstddef>
 #include <vector>
