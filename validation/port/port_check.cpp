@@ -16,7 +16,10 @@
 
 #include "ppohdem/dem/particle_csv.hpp"
 #include "ppohdem/io/atomic_file.hpp"
+#include "deterministic.hpp"
+#include "engines.hpp"
 #include "plot.hpp"
+#include "ppohdem/validation/check_registry.hpp"
 #include "port_scenes.hpp"
 #include "report.hpp"
 #include "subprocess.hpp"
@@ -143,6 +146,13 @@ int save_baseline(const PortOptions& options, const std::string& command) {
   std::vector<Baseline> baselines;
   std::vector<std::vector<Observables>> held;
   std::ostringstream summary;
+  if (options.members == 0) {  // only the deterministic tier's references (into an existing baseline)
+    const auto runs = run_deterministic_scenes(work, options.source_dir, options.engine, options.launcher);
+    for (std::size_t k = 0; k < runs.size(); ++k) save_deterministic_reference(dir, deterministic_scene_names()[k], runs[k]);
+    std::printf("wrote the deterministic references into %s\n", dir.string().c_str());
+    if (options.work_dir.empty()) fs::remove_all(work);
+    return 0;
+  }
   for (const auto& name : chosen_scenes(options)) {
     const PortScene scene = scene_to_run(name, options);
     const fs::path scene_file = export_scene(scene, work / "scenes", options.source_dir, find_ppohdem_program());
@@ -177,13 +187,19 @@ int save_baseline(const PortOptions& options, const std::string& command) {
     summary << "\n";
     baselines.push_back(std::move(b));
   }
+  const auto deterministic = run_deterministic_scenes(work, options.source_dir, options.engine, options.launcher);
+  for (std::size_t k = 0; k < deterministic.size(); ++k) {
+    save_deterministic_reference(dir, deterministic_scene_names()[k], deterministic[k]);
+  }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   AtomicFileWriter readme(dir / "README.md");
   auto& o = readme.stream();
   o << "# Port-validation baseline\n\nThe reference ensembles of the chaotic tier (docs/port-validation.md): for "
        "each scene, every member's observables (`<scene>.members.csv`: seed, fit or held-out, values) and the "
        "statistics a port is judged against (`<scene>.baseline.csv`: observables, means, standard deviations, "
-       "and the kept principal components of their correlation matrix: eigenvalue, loadings).\n\n"
+       "and the kept principal components of their correlation matrix: eigenvalue, loadings). "
+       "`deterministic_<scene>.csv`: the deterministic tier's numbers (velocity and spin changes after 1 and 4 "
+       "steps, energies, object loads) of the dense scenes.\n\n"
        "Regenerate (on a trusted machine):\n\n    "
     << command << "\n\n## Provenance\n\n";
   for (const auto& line : provenance_lines(command)) o << "- " << line << "\n";
@@ -230,8 +246,31 @@ struct SceneResult {
   Verdict verdict;
 };
 
+/// The oracle suite's analytic groups (Chung & Ooi), run in this process with the fast engine.
+std::vector<validation::CheckRow> analytic_checks(const PortOptions& options, const fs::path& work, const fs::path& img) {
+  validation::CheckContext ctx;
+  ctx.quick = true;
+  ctx.source_dir = options.source_dir;
+  ctx.work_dir = (work / "analytic").string();
+  ctx.img_dir = img.string();
+  ctx.engines = {"fast"};
+  fs::create_directories(ctx.work_dir);
+  std::vector<validation::CheckRow> rows;
+  for (const auto& g : validation::all_check_groups()) {
+    if (g.name.rfind("Chung & Ooi", 0) != 0) continue;
+    std::fprintf(stderr, "[port] deterministic tier: %s\n", g.name.c_str());
+    for (auto& row : g.run(ctx)) {
+      row.check = g.name + ": " + row.check;
+      rows.push_back(std::move(row));
+    }
+  }
+  return rows;
+}
+
 void write_report(const fs::path& out, const std::vector<SceneResult>& results, const PortOptions& options,
-                  const std::string& command, double wall, double cpu, bool pass) {
+                  const std::string& command, double wall, double cpu, bool pass,
+                  const std::vector<DeterministicRow>& deterministic,
+                  const std::vector<validation::CheckRow>& analytic) {
   const fs::path img = out.parent_path() / "img";
   fs::create_directories(img);
   const fs::path work = work_directory(options);
@@ -247,6 +286,22 @@ void write_report(const fs::path& out, const std::vector<SceneResult>& results, 
     o << "\n";
   }
   o << "- wall time " << fmt("%.1f", wall) << " s, CPU time of the simulations " << fmt("%.1f", cpu) << " s\n";
+  if (!deterministic.empty() || !analytic.empty()) {
+    o << "\n## Deterministic tier\n\n| scene | quantity | relative difference to the baseline | tolerance | |\n"
+      << "|---|---|---|---|---|\n";
+    for (const auto& d : deterministic) {
+      o << "| " << d.scene << " | " << d.quantity << " | " << fmt("%.3g", d.measured) << " | "
+        << fmt("%.0e", d.tolerance) << " | " << (d.passed() ? "pass" : "**FAIL**") << " |\n";
+    }
+    if (!analytic.empty()) {
+      o << "\nAnalytic checks of the oracle suite (fast engine):\n\n| check | measured | expected | tolerance | |\n"
+        << "|---|---|---|---|---|\n";
+      for (const auto& a : analytic) {
+        o << "| " << a.check << " | " << a.measured << " | " << a.expected << " | " << a.tolerance << " | "
+          << (a.passed ? "pass" : "**FAIL**") << " |\n";
+      }
+    }
+  }
   for (const auto& r : results) {
     const Baseline& b = *r.baseline;
     o << "\n## " << b.scene << ": " << (r.verdict.pass ? "PASS" : "FAIL") << "\n\n"
@@ -307,6 +362,29 @@ int check_port(const PortOptions& options, const std::string& command) {
   std::sort(baselines.begin(), baselines.end(), [](const Baseline& a, const Baseline& b) { return a.scene > b.scene; });
   std::vector<SceneResult> results;
   const fs::path work = work_directory(options);
+  std::vector<DeterministicRow> deterministic;
+  std::vector<validation::CheckRow> analytic;
+  const fs::path out = fs::absolute(options.out.empty() ? fs::path("port-validation-report.md") : fs::path(options.out));
+  bool deterministic_pass = true;
+  if (options.external.empty() && options.scale.empty() && options.scenes.empty()) {
+    const auto runs = run_deterministic_scenes(work, options.source_dir, options.engine, options.launcher);
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const std::string name = deterministic_scene_names()[k];
+      if (!fs::exists(baseline_dir / ("deterministic_" + name + ".csv"))) continue;
+      for (auto& row : compare_deterministic(baseline_dir, name, runs[k])) {
+        std::printf("%-14s %-60s %.3g (tolerance %.0e) %s\n", row.scene.c_str(), row.quantity.c_str(), row.measured,
+                    row.tolerance, row.passed() ? "pass" : "FAIL");
+        deterministic_pass = deterministic_pass && row.passed();
+        deterministic.push_back(row);
+      }
+    }
+    fs::create_directories(out.parent_path() / "img");
+    analytic = analytic_checks(options, work, out.parent_path() / "img");
+    std::size_t failed = 0;
+    for (const auto& a : analytic) failed += a.passed ? 0 : 1;
+    std::printf("analytic checks (Chung & Ooi, fast engine): %zu rows, %zu failed\n", analytic.size(), failed);
+    deterministic_pass = deterministic_pass && failed == 0;
+  }
   if (!options.external.empty()) {
     if (static_cast<int>(options.external.size()) != options.runs) {
       throw std::invalid_argument("--external: expected " + std::to_string(options.runs) + " run folders, got " +
@@ -332,7 +410,7 @@ int check_port(const PortOptions& options, const std::string& command) {
     }
   }
   if (results.empty()) throw std::invalid_argument("--scenes: none of them is in the baseline");
-  bool pass = true;
+  bool pass = deterministic_pass;
   for (const auto& r : results) {
     std::printf("%-14s %s  (failing PCs:", r.baseline->scene.c_str(), r.verdict.pass ? "PASS" : "FAIL");
     if (r.verdict.failing_pcs.empty()) std::printf(" none");
@@ -341,8 +419,7 @@ int check_port(const PortOptions& options, const std::string& command) {
     pass = pass && r.verdict.pass;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const fs::path out = fs::absolute(options.out.empty() ? fs::path("port-validation-report.md") : fs::path(options.out));
-  write_report(out, results, options, command, wall, children_cpu_seconds() - cpu0, pass);
+  write_report(out, results, options, command, wall, children_cpu_seconds() - cpu0, pass, deterministic, analytic);
   std::printf("port check: %s\nreport: %s\n", pass ? "PASS" : "FAIL", out.string().c_str());
   if (options.work_dir.empty()) fs::remove_all(work);
   return pass ? 0 : 1;
