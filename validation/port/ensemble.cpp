@@ -224,7 +224,7 @@ Baseline read_baseline(const fs::path& file) {
   return b;
 }
 
-std::vector<Observables> read_members(const fs::path& file, bool held_out_only) {
+std::vector<Observables> read_members(const fs::path& file, const std::string& role) {
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": cannot open");
   std::string line;
@@ -237,7 +237,7 @@ std::vector<Observables> read_members(const fs::path& file, bool held_out_only) 
       header = f;
       continue;
     }
-    if (held_out_only && f.at(1) != "held-out") continue;
+    if (!role.empty() && f.at(1) != role) continue;
     Observables o;
     o.names.assign(header.begin() + 2, header.end());
     for (std::size_t k = 2; k < f.size(); ++k) o.values.push_back(std::stod(f[k]));

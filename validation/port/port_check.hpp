@@ -28,6 +28,7 @@ struct PortOptions {
   std::string launcher;               // e.g. "mpirun -n 2" before each ppohdem simulate
   std::string engine = "fast";
   EnsembleRule rule;                  // for --save-baseline
+  bool refit = false;                 // --save-baseline DIR --refit: new rule, the stored members
   bool any() const { return port || !save_baseline.empty() || !against.empty() || !export_scenes.empty(); }
 };
 
