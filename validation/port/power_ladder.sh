@@ -3,8 +3,8 @@
 # physical parameter scaled by (1 + 10^-k) and (1 - 10^-k), checked against a baseline;
 # prints one Markdown row per parameter with the verdict at each k. Once both signs pass at
 # some k, the larger k of that parameter are not run ("-").
-#   validation/port/power_ladder.sh PPOHDEM BASELINE_DIR SCRATCH [k ...]
-# Default k: 2 4 6 8. Each check runs 3 members of each scene (~10 s of CPU).
+#   [SCENES=settling_bed] validation/port/power_ladder.sh PPOHDEM BASELINE_DIR SCRATCH [k ...]
+# Default k: 2 4 6 8. Each check runs 3 members of each scene (~10 s of CPU; SCENES: only those).
 set -u
 ppohdem=$1
 baseline=$2
@@ -28,7 +28,7 @@ for p in friction restitution young dt gravity; do
         continue
       fi
       f=$(/usr/bin/python3 -c "print(repr(1 $sign 10**-$k))")
-      "$ppohdem" validate --against "$baseline" --scale-parameter "$p=$f" --jobs 2 \
+      "$ppohdem" validate --against "$baseline" --scale-parameter "$p=$f" --jobs 2 ${SCENES:+--scenes "$SCENES"} \
         --out "$scratch/$p-$k$sign/report.md" --work-dir "$scratch/work" > "$scratch/$p-$k$sign.log" 2>&1
       case $? in
         0) printf ' pass |'; passes=$((passes + 1)) ;;
