@@ -171,7 +171,8 @@ Observables run_observables(const PortScene& scene, const fs::path& run_dir) {
     if (!fs::exists(file)) throw std::runtime_error(file.string() + ": missing (the frame of observable step " +
                                                     std::to_string(step) + ")");
     const auto frame = frame_observables(scene, dem::read_particles_csv(file));
-    const std::string at = "@" + std::to_string(step);
+    std::string at = "@";  // (not "@" + s: GCC 12 warns falsely, -Wrestrict)
+    at += std::to_string(step);
     for (const auto& [name, value] : frame) {
       result.names.push_back(name + at);
       result.values.push_back(value);

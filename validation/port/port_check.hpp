@@ -29,7 +29,9 @@ struct PortOptions {
   std::string engine = "fast";
   EnsembleRule rule;                  // for --save-baseline
   bool refit = false;                 // --save-baseline DIR --refit: new rule, the stored members
-  bool any() const { return port || !save_baseline.empty() || !against.empty() || !export_scenes.empty(); }
+  bool any() const {
+    return port || !save_baseline.empty() || !against.empty() || !export_scenes.empty() || !external.empty();
+  }
 };
 
 /// Runs the requested mode; returns the exit status (0 pass, 1 fail, 2 bad input).
