@@ -306,10 +306,12 @@ void write_report(const fs::path& out, const std::vector<SceneResult>& results, 
   const fs::path work = work_directory(options);
   AtomicFileWriter w(out);
   auto& o = w.stream();
-  o << "# Port validation report\n\n**Verdict: " << (pass ? "PASS" : "FAIL") << "** (chaotic tier: ensemble "
-    << "consistency test, docs/port-validation.md)\n\n## Provenance\n\n";
+  o << "# Port validation report\n\n**Verdict: " << (pass ? "PASS" : "FAIL") << "** (deterministic tier and "
+    << "ensemble consistency test, docs/port-validation.md)\n\n## Provenance\n\n";
   for (const auto& line : provenance_lines(command)) o << "- " << line << "\n";
   o << "- baseline: " << (options.against.empty() ? "(default)" : options.against) << "\n";
+  o << "- runs: ppohdem simulate --engine " << options.engine
+    << (options.launcher.empty() ? std::string(" (no launcher)") : " under '" + options.launcher + "'") << "\n";
   if (!options.scale.empty()) {
     o << "- known-bad change:";
     for (const auto& [k, v] : options.scale) o << " " << k << " x " << fmt("%.17g", v);
