@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
   app.add_option("--scale-parameter", scale_args,
                  "a known-bad change: NAME=FACTOR (friction, restitution, young, dt, gravity)")
       ->delimiter(',');
+  app.add_flag("--growth", port.growth_only, "--save-baseline DIR: only the growth diagnostic's data (40 members)");
   app.add_flag("--refit", port.refit, "--save-baseline DIR: refit DIR's stored members with --sigma/--min-failing-pcs");
   app.add_option("--sigma", port.rule.sigma, "--save-baseline: a PC fails beyond this many sigma")->capture_default_str();
   app.add_option("--min-failing-pcs", port.rule.min_failing_pcs, "--save-baseline: failing PCs that fail a check")

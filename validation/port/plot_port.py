@@ -3,6 +3,8 @@
 
     plot_port.py scores SCORES.csv OUT.png SIGMA SCENE
         the PC scores of the port's runs (columns run1..runN) against +-SIGMA
+    plot_port.py growth GROWTH.csv OUT.png 0 SCENE
+        the growth diagnostic: port-vs-reference RMS over the members' pairwise envelope
 """
 import csv
 import sys
@@ -31,8 +33,30 @@ def scores(path, png, sigma, scene):
     fig.savefig(png, dpi=110)
 
 
+def growth(path, png, scene):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    step = [float(r["step"]) for r in rows]
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    ax.fill_between(step, [float(r["low"]) for r in rows], [float(r["high"]) for r in rows], color="0.85",
+                    label="reference members, pairwise (min-max)")
+    ax.plot(step, [float(r["median"]) for r in rows], color="0.5", lw=1, label="median")
+    port = [(s, float(r["port"])) for s, r in zip(step, rows) if float(r["port"]) > 0]
+    if port:
+        ax.plot(*zip(*port), "o-", color="C3", label="port vs reference (same seed)")
+    ax.set_yscale("log")
+    ax.set_xlabel("step")
+    ax.set_ylabel("RMS position difference [m]")
+    ax.set_title(f"{scene}: growth diagnostic (a bitwise-equal port has no points)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "scores":
         scores(sys.argv[2], sys.argv[3], float(sys.argv[4]), sys.argv[5])
+    elif sys.argv[1] == "growth":
+        growth(sys.argv[2], sys.argv[3], sys.argv[5])
     else:
         sys.exit("unknown plot kind " + sys.argv[1])

@@ -18,6 +18,7 @@
 #include "ppohdem/io/atomic_file.hpp"
 #include "deterministic.hpp"
 #include "engines.hpp"
+#include "growth.hpp"
 #include "plot.hpp"
 #include "ppohdem/validation/check_registry.hpp"
 #include "port_scenes.hpp"
@@ -109,6 +110,17 @@ std::vector<std::string> chosen_scenes(const PortOptions& options) {
   return options.scenes.empty() ? port_scene_names() : options.scenes;
 }
 
+/// The growth diagnostic's data from member folders (the first 40, in pairs) and a reference run
+/// of kGrowthSeed, made here.
+void make_growth(const PortScene& scene, const fs::path& scene_file, const std::vector<fs::path>& members,
+                 const fs::path& dir, const fs::path& work, const PortOptions& options) {
+  std::vector<fs::path> reference;
+  run_members(scene, scene_file, {kGrowthSeed}, work / "runs" / (scene.name + "_growth"), options, true, &reference);
+  const std::vector<fs::path> pairs(members.begin(), members.begin() + std::min<std::size_t>(members.size(), 40));
+  save_growth(dir, scene.name, pairs, reference.front());
+  fs::remove_all(reference.front());
+}
+
 int export_scenes(const PortOptions& options) {
   for (const auto& name : chosen_scenes(options)) {
     const fs::path file = export_scene(scene_to_run(name, options), options.export_scenes, options.source_dir,
@@ -176,6 +188,21 @@ int save_baseline(const PortOptions& options, const std::string& command) {
   std::vector<Baseline> baselines;
   std::vector<std::vector<Observables>> held;
   std::ostringstream summary;
+  if (options.growth_only) {  // only the growth diagnostic (into an existing baseline)
+    for (const auto& name : chosen_scenes(options)) {
+      const PortScene scene = scene_to_run(name, options);
+      const fs::path scene_file = export_scene(scene, work / "scenes", options.source_dir, find_ppohdem_program());
+      std::vector<long> seeds;
+      for (int k = 1; k <= 40; ++k) seeds.push_back(k);
+      std::vector<fs::path> dirs;
+      run_members(scene, scene_file, seeds, work / "runs" / name, options, true, &dirs);
+      make_growth(scene, scene_file, dirs, dir, work, options);
+      for (const auto& d : dirs) fs::remove_all(d);
+    }
+    std::printf("wrote the growth diagnostic into %s\n", dir.string().c_str());
+    if (options.work_dir.empty()) fs::remove_all(work);
+    return 0;
+  }
   if (options.members == 0) {  // only the deterministic tier's references (into an existing baseline)
     const auto runs = run_deterministic_scenes(work, options.source_dir, options.engine, options.launcher);
     for (std::size_t k = 0; k < runs.size(); ++k) save_deterministic_reference(dir, deterministic_scene_names()[k], runs[k]);
@@ -193,7 +220,10 @@ int save_baseline(const PortOptions& options, const std::string& command) {
       held_flags.push_back(k > options.members);
     }
     const double scene_cpu0 = children_cpu_seconds();
-    const auto members = run_members(scene, scene_file, seeds, work / "runs" / name, options, false);
+    std::vector<fs::path> dirs;
+    const auto members = run_members(scene, scene_file, seeds, work / "runs" / name, options, true, &dirs);
+    make_growth(scene, scene_file, dirs, dir, work, options);
+    for (const auto& d : dirs) fs::remove_all(d);
     const double scene_cpu = children_cpu_seconds() - scene_cpu0;
     std::vector<Observables> fit(members.begin(), members.begin() + options.members);
     held.emplace_back(members.begin() + options.members, members.end());
@@ -274,6 +304,7 @@ struct SceneResult {
   const Baseline* baseline = nullptr;
   std::vector<std::string> runs;  // labels
   Verdict verdict;
+  std::vector<GrowthRow> growth;  // empty: no growth diagnostic
 };
 
 /// The oracle suite's analytic groups (Chung & Ooi), run in this process with the fast engine.
@@ -375,6 +406,24 @@ void write_report(const fs::path& out, const std::vector<SceneResult>& results, 
                             fmt("%g", b.rule.sigma) + " " + validation::shell_quote(b.scene) + " 1>&2";
     if (std::system(cmd.c_str()) == 0) o << "\n![PC scores of " << b.scene << "](img/" << png << ")\n";
     else std::fprintf(stderr, "[port] warning: plot %s not made\n", png.c_str());
+    if (!r.growth.empty()) {
+      o << "\nGrowth diagnostic: RMS distance [m] between this machine's run of seed " << kGrowthSeed
+        << " and the reference machine's (every 10th particle), and between pairs of reference members:\n\n"
+        << "| step | port vs reference | members: min | median | max |\n|---|---|---|---|---|\n";
+      std::vector<std::vector<double>> growth_rows_csv;
+      for (const auto& g : r.growth) {
+        o << "| " << g.step << " | " << fmt("%.3g", g.port) << " | " << fmt("%.3g", g.low) << " | "
+          << fmt("%.3g", g.median) << " | " << fmt("%.3g", g.high) << " |\n";
+        growth_rows_csv.push_back({static_cast<double>(g.step), g.port, g.low, g.median, g.high});
+      }
+      const std::string gcsv = (work / ("growth_" + b.scene + ".csv")).string();
+      validation::write_csv(gcsv, {"step", "port", "low", "median", "high"}, growth_rows_csv);
+      const std::string gpng = "port_growth_" + b.scene + ".png";
+      const std::string gcmd = validation::shell_quote(python) + " " + validation::shell_quote(script) + " growth " +
+                               validation::shell_quote(gcsv) + " " + validation::shell_quote((img / gpng).string()) +
+                               " 0 " + validation::shell_quote(b.scene) + " 1>&2";
+      if (std::system(gcmd.c_str()) == 0) o << "\n![growth diagnostic of " << b.scene << "](img/" << gpng << ")\n";
+    }
   }
   w.commit();
 }
@@ -425,7 +474,7 @@ int check_port(const PortOptions& options, const std::string& command) {
     const Baseline& b = baseline_of_runs(baselines, options.external);
     std::vector<Observables> runs;
     for (const auto& dir : options.external) runs.push_back(run_observables(port_scene(b.scene), dir));
-    results.push_back({&b, options.external, judge(b, runs)});
+    results.push_back({&b, options.external, judge(b, runs), {}});
   } else {
     for (const auto& b : baselines) {
       if (!options.scenes.empty() && std::find(options.scenes.begin(), options.scenes.end(), b.scene) == options.scenes.end()) continue;
@@ -437,8 +486,12 @@ int check_port(const PortOptions& options, const std::string& command) {
         seeds.push_back(options.first_port_seed + k);
         labels.push_back("seed " + std::to_string(seeds.back()));
       }
-      const auto runs = run_members(scene, scene_file, seeds, work / "runs" / b.scene, options, false);
-      results.push_back({&b, labels, judge(b, runs)});
+      std::vector<fs::path> dirs;
+      const auto runs = run_members(scene, scene_file, seeds, work / "runs" / b.scene, options, true, &dirs);
+      std::vector<GrowthRow> growth;
+      if (options.first_port_seed == kGrowthSeed) growth = growth_rows(baseline_dir, b.scene, dirs.front());
+      for (const auto& d : dirs) fs::remove_all(d);
+      results.push_back({&b, labels, judge(b, runs), growth});
     }
   }
   if (results.empty()) throw std::invalid_argument("--scenes: none of them is in the baseline");

@@ -29,6 +29,7 @@ struct PortOptions {
   std::string engine = "fast";
   EnsembleRule rule;                  // for --save-baseline
   bool refit = false;                 // --save-baseline DIR --refit: new rule, the stored members
+  bool growth_only = false;           // --save-baseline DIR --growth: only the growth diagnostic
   bool any() const {
     return port || !save_baseline.empty() || !against.empty() || !export_scenes.empty() || !external.empty();
   }
