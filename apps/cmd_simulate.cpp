@@ -12,6 +12,8 @@
 // --steps / --time-finish override the end of any scene (short test runs).
 //   --checkpoint-every N   write <dir>/checkpoint.bin every N steps and at the end
 //   --restart FILE         continue from a checkpoint to the scene's (or --steps') end step
+//   --perturb-seed K       move every particle coordinate by one ulp, seeded (dem/perturb.hpp)
+//   --output-dir DIR       write the outputs to DIR instead of the scene's [output] dir
 //   --alternate-threads 1,2 [--alternate-every K]   switch the OpenMP thread count every K
 //       steps (default 500; order 1 2 2 1 1 2 ...) and report each count's particle-steps per second: a
 //       speed-up measured in one process, over the same phases of the run (the results do not
@@ -39,6 +41,7 @@
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/legacy_scene.hpp"
+#include "ppohdem/dem/perturb.hpp"
 #include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
 #include "ppohdem/error.hpp"
@@ -68,6 +71,8 @@ struct SimulateOptions {
   const Comm* comm = nullptr;         // the ranks this program runs on (mpirun)
   std::vector<int> alternate_threads; // OpenMP thread counts to switch between (empty: none)
   long alternate_every = 500;         // steps per block of one thread count
+  std::optional<std::uint64_t> perturb_seed;  // move every coordinate by one ulp (dem/perturb.hpp)
+  std::string output_dir;             // overrides the scene's [output] dir
 };
 
 /// `--alternate-threads`: the run switches the OpenMP thread count at every K-th step boundary
@@ -147,6 +152,11 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   if (scene.steps < 0) throw InputError("--steps: expected >= 0");
   scene.setup.force_time_step = options.force;
   if (options.quiet) scene.output.progress = false;
+  if (!options.output_dir.empty()) scene.output.dir = options.output_dir;
+  if (options.perturb_seed) {  // an ensemble member (docs/port-validation.md)
+    if (!options.restart.empty()) throw InputError("--perturb-seed applies to a fresh start, not to --restart");
+    dem::perturb_positions_by_one_ulp(scene.setup.particles, *options.perturb_seed);
+  }
   const auto factory = engines().find(options.engine);
   if (factory == engines().end()) {
     throw InputError("--engine: expected 'reference', 'fast' or 'optimized', got '" + options.engine + "'");
@@ -171,7 +181,8 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   // The engine holds the particles now; the scene's copy is not read again (run_scene uses
   // the materials, boundaries and outputs): free it (about 140 bytes per particle).
   dem::Particles().swap(scene.setup.particles);
-  const std::string header = provenance_line(ranks) + "; engine " + engine->name();
+  std::string header = provenance_line(ranks) + "; engine " + engine->name();
+  if (options.perturb_seed) header += "; perturb-seed " + std::to_string(*options.perturb_seed);
   const std::size_t particle_count = engine->particles().size();  // collective: on every rank
   if (root) std::fprintf(stderr, "%s\n", header.c_str());
   if (root && ranks > 1) {
@@ -311,6 +322,10 @@ void register_simulate(CLI::App& app, const Comm& comm) {
       ->delimiter(',');
   cmd->add_option("--alternate-every", options->alternate_every, "steps per block of --alternate-threads")
       ->capture_default_str();
+  cmd->add_option("--perturb-seed", options->perturb_seed,
+                  "move every particle coordinate by one ulp, up or down as seed K draws it (ensemble member K; "
+                  "docs/port-validation.md)");
+  cmd->add_option("--output-dir", options->output_dir, "write the outputs here instead of the scene's [output] dir");
   cmd->add_option("--data-length", options->data_length,
                   "legacy: length L [m] of the distance data (default: from input_constants_voxelizer.dat)");
   cmd->add_option("--compat", options->compat,

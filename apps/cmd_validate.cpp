@@ -1,5 +1,7 @@
 // ppohdem validate [--quick|--full] [--live] [--out FILE] [--engines a,b] [--only TEXT]
-//     Runs the oracle suite (docs/validation.md) and writes docs/validation-report.md.
+//     Runs the oracle suite (docs/validation.md) and writes ./validation-report.md (or --out).
+// ppohdem validate --port | --save-baseline DIR | --against DIR | --export-scenes DIR ...
+//     Port validation of chaotic runs (docs/port-validation.md).
 //     The suite needs CGAL (validation/), which the `ppohdem` tool does not link: it lives in
 //     the separate program `ppohdem-validate`, built with -DPPOHDEM_ENABLE_CGAL=ON (the default
 //     when CGAL is found) and installed next to `ppohdem`. This command finds it there (or in
@@ -68,7 +70,10 @@ void register_validate(CLI::App& app) {
       "built with CGAL)");
   cmd->prefix_command();  // pass every argument through to ppohdem-validate unparsed
   cmd->footer("Options (handled by ppohdem-validate): --quick (default, CI) | --full, --live, "
-              "--out FILE, --engines a,b, --only TEXT, --list, --source-dir DIR, --work-dir DIR");
+              "--out FILE, --engines a,b, --only TEXT, --list, --source-dir DIR, --work-dir DIR; "
+              "port validation (docs/port-validation.md): --port, --save-baseline DIR, --against DIR, "
+              "--export-scenes DIR, --external RUN1 RUN2 RUN3, --jobs N, --launcher WORDS, --scale-parameter "
+              "NAME=FACTOR, --scenes a,b, --refit");
   cmd->callback([cmd]() {
     const std::string program = find_validate_program();
     if (program.empty()) {

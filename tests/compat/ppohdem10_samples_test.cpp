@@ -149,5 +149,21 @@ TEST(Ppohdem10Cube, UnreachedSentinelNodesAreCountedAsTheOriginalReports) {
   EXPECT_EQ(unreached, 16322);
 }
 
+// object_mesh.stl as the original writes it (output_object_mesh), against its own files.
+std::string placed_object_mesh(Sample s) {
+  const VoxelizerInput input = read_voxelizer_input(sample_dir(s) / "input_constants_voxelizer.dat");
+  return ppohdem10_object_mesh_stl(
+      place_mesh(sample_mesh(s), Placement{input.object_size, input.object_position, PlacementMode::kPpohdem10}));
+}
+
+TEST(Ppohdem10ObjectMesh, CubeIsByteIdenticalToTheOriginal) {
+  EXPECT_TRUE(placed_object_mesh(Sample::kCube) == read_file_bytes(test::fixture("ppohdem-1.0/object_mesh_cube.stl")));
+}
+TEST(Ppohdem10ObjectMesh, SpheresAreByteIdenticalToTheOriginal) {
+  for (const Sample s : {Sample::kOffsetSphere, Sample::kCentredSphere}) {
+    EXPECT_TRUE(placed_object_mesh(s) == test::read_xz_file(sample_dir(s) / "object_mesh.stl.xz"));
+  }
+}
+
 }  // namespace
 }  // namespace ppohdem::compat

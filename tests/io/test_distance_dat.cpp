@@ -153,6 +153,30 @@ TEST(DistanceDat, RewritingTheOriginalCubeFileIsByteIdentical) {
                                           written.begin();
 }
 
+TEST(DistanceDat, EachRankFileAloneIsTheOriginalTwoRankFile) {
+  // write_distance_dat_rank (one MPI rank writing its own file) against the Fortran program's
+  // two rank files of the cube.
+  const auto base = test::scratch_dir();  // emptied on each call: called once
+  const auto dir = base / "original";
+  const auto out = base / "mine";
+  std::filesystem::create_directories(dir);
+  std::filesystem::create_directories(out);
+  for (int rank = 0; rank < 2; ++rank) {
+    const std::string name = "distance_000" + std::to_string(rank) + ".dat";
+    std::ofstream(dir / name, std::ios::binary)
+        << test::read_xz_file(test::fixture("ppohdem-1.0/util-cube/np2/" + name + ".xz"));
+  }
+  const DistanceDat dat = read_distance_dat(dir);
+  ASSERT_EQ(dat.nprocs, 2);
+  for (int rank = 0; rank < 2; ++rank) {
+    const auto file = out / ("mine_" + std::to_string(rank) + ".dat");
+    write_distance_dat_rank(file, dat.values, dat.nodes, 2, rank);
+    EXPECT_TRUE(read_file_bytes(file) == read_file_bytes(distance_dat_path(dir, rank))) << "rank " << rank;
+  }
+  EXPECT_THAT([&] { write_distance_dat_rank(out / "x.dat", dat.values, dat.nodes, 2, 2); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("expected 0 <= rank < nprocs = 2, found rank 2")));
+}
+
 // ---- round trips and malformed files ------------------------------------------------------
 
 /// A small field whose values are exact 8-digit decimals (read back from their printed text),

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +21,7 @@
 #include "ppohdem/io/atomic_file.hpp"
 #include "ppohdem/provenance.hpp"
 #include "ppohdem/validation/check_registry.hpp"
+#include "port_check.hpp"
 #include "report.hpp"
 
 namespace fs = std::filesystem;
@@ -34,8 +36,8 @@ int main(int argc, char** argv) {
   auto* q = app.add_flag("--quick", quick, "the CI subset (default): a few minutes");
   app.add_flag("--full", full, "also the long studies (under an hour on 2 cores)")->excludes(q);
   app.add_flag("--live", live, "rerun peer codes (YADE) instead of their stored outputs");
-  app.add_option("--out", out, "report file (default SOURCE/docs/validation-report.md); plots go "
-                               "to img/ beside it");
+  app.add_option("--out", out, "report file (default ./validation-report.md, or ./port-validation-report.md "
+                               "with --port/--against); plots go to img/ beside it");
   app.add_option("--engines", engines, "DEM engines to exercise (default: every engine built)")
       ->delimiter(',');
   app.add_option("--only", only, "run only the groups whose name contains this text");
@@ -43,7 +45,53 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--work-dir", work_dir, "scratch directory (default: a temporary directory)");
   app.add_flag("--list", list_only, "list the check groups and exit");
+  // Port validation of chaotic runs (validation/port, docs/port-validation.md).
+  ppohdem::port::PortOptions port;
+  app.add_flag("--port", port.port, "check this build against the shipped ensemble baseline (fixtures/port-baseline)");
+  app.add_option("--save-baseline", port.save_baseline, "make a new ensemble baseline in DIR (a trusted machine)");
+  app.add_option("--against", port.against, "check this build (or --external runs) against the baseline in DIR");
+  app.add_option("--export-scenes", port.export_scenes, "write the chaotic tier's scenes (TOML, CSV) into DIR");
+  app.add_option("--external", port.external, "with --port: judge these 3 output folders instead of running ppohdem")
+      ->expected(1, 3);
+  app.add_option("--scenes", port.scenes, "port scenes (settling_bed, seed_sample, small_bed; default: the baseline's)")
+      ->delimiter(',');
+  app.add_option("--members", port.members, "--save-baseline: fit members")->capture_default_str();
+  app.add_option("--held-out", port.held_out, "--save-baseline: held-out members (false-positive rate)")
+      ->capture_default_str();
+  app.add_option("--jobs", port.jobs, "simulations run at once")->capture_default_str();
+  app.add_option("--launcher", port.launcher, "words before each ppohdem simulate, e.g. 'mpirun -n 2'");
+  app.add_option("--engine", port.engine, "engine of the port's runs")->capture_default_str();
+  app.add_option("--first-seed", port.first_port_seed, "perturbation seed of the port's first run")
+      ->capture_default_str();
+  std::vector<std::string> scale_args;
+  app.add_option("--scale-parameter", scale_args,
+                 "a known-bad change: NAME=FACTOR (friction, restitution, young, dt, gravity)")
+      ->delimiter(',');
+  app.add_flag("--growth", port.growth_only, "--save-baseline DIR: only the growth diagnostic's data (40 members)");
+  app.add_flag("--refit", port.refit, "--save-baseline DIR: refit DIR's stored members with --sigma/--min-failing-pcs");
+  app.add_option("--sigma", port.rule.sigma, "--save-baseline: a PC fails beyond this many sigma")->capture_default_str();
+  app.add_option("--min-failing-pcs", port.rule.min_failing_pcs, "--save-baseline: failing PCs that fail a check")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  if (port.any()) {
+    for (const auto& arg : scale_args) {  // NAME=FACTOR
+      const auto eq = arg.find('=');
+      char* end = nullptr;
+      const double factor = eq == std::string::npos ? 0.0 : std::strtod(arg.c_str() + eq + 1, &end);
+      if (eq == std::string::npos || end == arg.c_str() + eq + 1 || *end != '\0' || !(factor > 0.0)) {
+        std::fprintf(stderr, "ppohdem validate: error: --scale-parameter: expected NAME=FACTOR (a factor > 0), got '%s'\n",
+                     arg.c_str());
+        return 2;
+      }
+      port.scale[arg.substr(0, eq)] = factor;
+    }
+    port.source_dir = fs::absolute(source_dir).string();
+    port.work_dir = work_dir;
+    port.out = out;
+    std::string command = "ppohdem validate";
+    for (int i = 1; i < argc; ++i) command.append(" ").append(argv[i]);
+    return ppohdem::port::run_port_validation(port, command);
+  }
 
   try {
     const auto& groups = all_check_groups();
@@ -62,7 +110,8 @@ int main(int argc, char** argv) {
         return 2;
       }
     }
-    if (out.empty()) out = (fs::path(source_dir) / "docs" / "validation-report.md").string();
+    // In the working directory: a run never modifies the checkout unless --out points there.
+    if (out.empty()) out = "validation-report.md";
     const fs::path out_path = fs::absolute(out);
     const fs::path img_dir = out_path.parent_path() / "img";
     fs::create_directories(img_dir);

@@ -139,9 +139,11 @@ ScalarField DistanceDat::on_grid(const GridSpec& grid) const {
   return field;
 }
 
-void write_distance_dat(const std::filesystem::path& dir, std::span<const double> values, const Index3& nodes,
-                        int nprocs) {
-  const std::string where = distance_dat_path(dir, 0).string();
+namespace {
+
+// The checks every writer makes before writing anything; `where` names the file in messages.
+void check_distance_dat_set(const std::string& where, std::span<const double> values, const Index3& nodes,
+                            int nprocs) {
   for (int n : nodes) {
     if (n < 1 || n > kMaxI8) {
       throw InputError(where, 0, "cannot write: expected node counts in 1.." + std::to_string(kMaxI8) +
@@ -158,37 +160,60 @@ void write_distance_dat(const std::filesystem::path& dir, std::span<const double
     throw InputError(where, 0, "cannot write: expected " + std::to_string(count) + " values, found " +
                                    std::to_string(values.size()));
   }
+}
 
+// Rank `rank`'s file: the header (rank 0), then its x-planes, k outer, j, i inner.
+void stream_distance_dat_rank(std::ostream& out, std::span<const double> values, const Index3& nodes, int nprocs,
+                              int rank) {
+  char line[64];
+  std::string text;
+  if (rank == 0) {
+    std::snprintf(line, sizeof line, "%8d%8d%8d%8d\n", nodes[0], nodes[1], nodes[2], nprocs);
+    text += line;
+  }
+  const DistanceDatSlab slab = distance_dat_slab(nodes[0], nprocs, rank);
+  for (int k = 0; k < nodes[2]; ++k) {
+    for (int j = 0; j < nodes[1]; ++j) {
+      for (int i = slab.first_plane; i < slab.first_plane + slab.plane_count; ++i) {
+        const std::size_t index = static_cast<std::size_t>(i) +
+                                  static_cast<std::size_t>(nodes[0]) *
+                                      (static_cast<std::size_t>(j) + static_cast<std::size_t>(nodes[1]) *
+                                                                         static_cast<std::size_t>(k));
+        std::snprintf(line, sizeof line, "%8d%8d%8d", i + 1, j + 1, k + 1);
+        text += line;
+        text += format_fortran_e20_8(values[index]);
+        text += '\n';
+      }
+    }
+    out << text;  // flush per k-plane to bound memory
+    text.clear();
+  }
+}
+
+}  // namespace
+
+void write_distance_dat(const std::filesystem::path& dir, std::span<const double> values, const Index3& nodes,
+                        int nprocs) {
+  check_distance_dat_set(distance_dat_path(dir, 0).string(), values, nodes, nprocs);
   // All files are written to temporaries first; none is renamed into place before all succeeded.
   std::vector<std::unique_ptr<AtomicFileWriter>> writers;
-  char line[64];
   for (int rank = 0; rank < nprocs; ++rank) {
     writers.push_back(std::make_unique<AtomicFileWriter>(distance_dat_path(dir, rank)));
-    std::ostream& out = writers.back()->stream();
-    std::string text;
-    if (rank == 0) {
-      std::snprintf(line, sizeof line, "%8d%8d%8d%8d\n", nodes[0], nodes[1], nodes[2], nprocs);
-      text += line;
-    }
-    const DistanceDatSlab slab = distance_dat_slab(nodes[0], nprocs, rank);
-    for (int k = 0; k < nodes[2]; ++k) {
-      for (int j = 0; j < nodes[1]; ++j) {
-        for (int i = slab.first_plane; i < slab.first_plane + slab.plane_count; ++i) {
-          const std::size_t index = static_cast<std::size_t>(i) +
-                                    static_cast<std::size_t>(nodes[0]) *
-                                        (static_cast<std::size_t>(j) + static_cast<std::size_t>(nodes[1]) *
-                                                                           static_cast<std::size_t>(k));
-          std::snprintf(line, sizeof line, "%8d%8d%8d", i + 1, j + 1, k + 1);
-          text += line;
-          text += format_fortran_e20_8(values[index]);
-          text += '\n';
-        }
-      }
-      out << text;  // flush per k-plane to bound memory
-      text.clear();
-    }
+    stream_distance_dat_rank(writers.back()->stream(), values, nodes, nprocs, rank);
   }
   for (auto& w : writers) w->commit();
+}
+
+void write_distance_dat_rank(const std::filesystem::path& file, std::span<const double> values,
+                             const Index3& nodes, int nprocs, int rank) {
+  check_distance_dat_set(file.string(), values, nodes, nprocs);
+  if (rank < 0 || rank >= nprocs) {
+    throw InputError(file.string(), 0, "cannot write: expected 0 <= rank < nprocs = " + std::to_string(nprocs) +
+                                           ", found rank " + std::to_string(rank));
+  }
+  AtomicFileWriter writer(file);
+  stream_distance_dat_rank(writer.stream(), values, nodes, nprocs, rank);
+  writer.commit();
 }
 
 namespace {

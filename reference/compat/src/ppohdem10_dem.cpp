@@ -118,7 +118,7 @@ void ppohdem10_symplectic(Ppohdem10Particles& p) {
   }
 }
 
-Ppohdem10Dem::Ppohdem10Dem(const Ppohdem10DemInput& in) {
+Ppohdem10Dem::Ppohdem10Dem(const Ppohdem10DemInput& in, bool sort_by_cell) {
   params_.input = in.params;
   if (in.initial.particles.empty()) throw InputError("--compat ppohdem-1.0: the initial state has no particles");
   for (std::size_t i = 0; i < in.initial.particles.size(); ++i) {
@@ -145,26 +145,45 @@ Ppohdem10Dem::Ppohdem10Dem(const Ppohdem10DemInput& in) {
   counter_.file_index = static_cast<int>(in.initial.step / C::kStepsPerFrame);
   if (counter_.file_index > 0) ppohdem10_update_object_field(object_, counter_.file_index);
   // sample_main01 sorts the particles by cell once before the loop.
-  ppohdem10_update_index(particles_, cells_, counter_.itime);
+  if (sort_by_cell) update_index();
+}
+
+void Ppohdem10Dem::update_index() { ppohdem10_update_index(particles_, cells_, counter_.itime); }
+
+bool Ppohdem10Dem::check_update() {
+  const bool resorted = ppohdem10_check_update(particles_, cells_, counter_, params_);
+  if (resorted) ++resort_count_;
+  return resorted;
+}
+
+void Ppohdem10Dem::integrate_system() {
+  ppohdem10_calcforce(particles_, cells_, walls_, counter_.itime);
+  ppohdem10_embedding(particles_, object_, counter_.itime);
+  ppohdem10_symplectic(particles_);
+}
+
+bool Ppohdem10Dem::advance_counters() {
+  // ppohDEM_dataout: the counters (the file itself is written by the driver).
+  counter_.itime = counter_.itime + 1;
+  counter_.rtime = counter_.rtime + C::kTimeStep;
+  if (counter_.itime % C::kStepsPerFrame != 0) return false;
+  counter_.file_index = counter_.file_index + 1;
+  return true;
+}
+
+bool Ppohdem10Dem::check_objects() {
+  // ppohDEM_check_objects: the field for frame file_index (used from the next step on).
+  if (counter_.itime % C::kStepsPerFrame != 0) return false;
+  ppohdem10_update_object_field(object_, counter_.file_index);
+  return true;
 }
 
 Ppohdem10StepEvents Ppohdem10Dem::step() {
   Ppohdem10StepEvents events;
-  events.resorted = ppohdem10_check_update(particles_, cells_, counter_, params_);
-  if (events.resorted) ++resort_count_;
-  // ppohDEM_integrate_system
-  ppohdem10_calcforce(particles_, cells_, walls_, counter_.itime);
-  ppohdem10_embedding(particles_, object_, counter_.itime);
-  ppohdem10_symplectic(particles_);
-  // ppohDEM_dataout: the counters (the file itself is written by the driver).
-  counter_.itime = counter_.itime + 1;
-  counter_.rtime = counter_.rtime + C::kTimeStep;
-  if (counter_.itime % C::kStepsPerFrame == 0) {
-    counter_.file_index = counter_.file_index + 1;
-    events.frame = true;
-    // ppohDEM_check_objects: the field for frame file_index (used from the next step on).
-    ppohdem10_update_object_field(object_, counter_.file_index);
-  }
+  events.resorted = check_update();
+  integrate_system();
+  events.frame = advance_counters();
+  if (events.frame) check_objects();
   return events;
 }
 

@@ -179,18 +179,21 @@ Ppohdem10DemInput read_ppohdem10_dem_input(const fs::path& params_file, const fs
   return in;
 }
 
-std::string Ppohdem10Dem::frame_text() const {
+std::string ppohdem10_frame_text(const std::vector<Rvec3>& positions, const std::vector<double>& radius) {
   // ppohDEM_particles_fileout: write(12,'(7e16.6)') x, y, z, radius — 4 values, one line.
+  if (positions.size() != radius.size()) throw InputError("ppohdem10_frame_text: positions and radii differ in count");
   std::string out;
-  out.reserve(particles_.size() * 65);
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
-    for (const double v : {particles_.pos[i].x, particles_.pos[i].y, particles_.pos[i].z, particles_.radius[i]}) {
+  out.reserve(positions.size() * 65);
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    for (const double v : {positions[i].x, positions[i].y, positions[i].z, radius[i]}) {
       out.append(fortran::e_format(v, 16, 6));
     }
     out.push_back('\n');
   }
   return out;
 }
+
+std::string Ppohdem10Dem::frame_text() const { return ppohdem10_frame_text(particles_.pos, particles_.radius); }
 
 std::string Ppohdem10Dem::object_field_csv() const {
   // write(313,*) ' x, y, z, distance ' then write(313,*) i // ', ' // j // ', ' // k // ', ' // d,

@@ -3,6 +3,7 @@
 #include "ppohdem/compat/ppohdem10_voxelizer.hpp"
 
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "ppohdem/error.hpp"
@@ -56,7 +57,7 @@ std::vector<double> gather(const std::vector<RankSlab>& ranks, const Index3& n) 
 
 // ppohDEM_v_distanceprecise on one rank's own planes. Writes the band's signed exact distance
 // and the sentinel everywhere else (tdistance_voxel_3D is copied over distance_3D whole).
-void exact_band(RankSlab& s, const Ppohdem10Grid& g, const std::vector<Ppohdem10Facet>& facets,
+void exact_band_of_rank(RankSlab& s, const Ppohdem10Grid& g, const std::vector<Ppohdem10Facet>& facets,
                 const NodeFlags& value, NodeFlags& calculated, NodeFlags& vote_inside) {
   const double sentinel = g.lx * 10.0;
   const double hx = g.lx / g.n[0];
@@ -102,24 +103,48 @@ void exact_band(RankSlab& s, const Ppohdem10Grid& g, const std::vector<Ppohdem10
 
 }  // namespace
 
-Ppohdem10Trace ppohdem10_distance_trace(const TriangleMesh& placed_mesh, const VoxelizerInput& input,
-                                        int nprocs) {
-  check_arguments(input, nprocs);
-  const Ppohdem10Grid g = ppohdem10_grid(input.voxels, input.length);
-  const std::vector<Ppohdem10Facet> facets = ppohdem10_facets(placed_mesh);
-  const Index3& n = input.voxels;
-
+struct Ppohdem10VoxelizerStages::State {
+  State(const TriangleMesh& placed_mesh, const VoxelizerInput& input, int rank_count)
+      : g(ppohdem10_grid(input.voxels, input.length)), facets(ppohdem10_facets(placed_mesh)), n(input.voxels),
+        nprocs(rank_count), value(n), calculated(n), vote_inside(n) {}
+  Ppohdem10Grid g;
+  std::vector<Ppohdem10Facet> facets;
+  Index3 n;
+  int nprocs;
   Ppohdem10Trace trace;
-  trace.nodes = n;
-  trace.spacing_w = g.w;
-  trace.sentinel = g.lx * 10;
+  NodeFlags value, calculated, vote_inside;
+  std::vector<RankSlab> ranks;
+  int done = 0;
 
+  void expect(int stages, const char* stage, const char* before) const {
+    if (done != stages) {
+      throw std::logic_error(std::string(stage) + " needs " + before + " first (stages done: " +
+                             std::to_string(done) + " of 4)");
+    }
+  }
+};
+
+Ppohdem10VoxelizerStages::Ppohdem10VoxelizerStages(const TriangleMesh& placed_mesh, const VoxelizerInput& input,
+                                                   int nprocs) {
+  check_arguments(input, nprocs);
+  state_ = std::make_unique<State>(placed_mesh, input, nprocs);
+  state_->trace.nodes = input.voxels;
+  state_->trace.spacing_w = state_->g.w;
+  state_->trace.sentinel = state_->g.lx * 10;
+}
+
+Ppohdem10VoxelizerStages::~Ppohdem10VoxelizerStages() = default;
+
+void Ppohdem10VoxelizerStages::voxelize() {
+  State& st = *state_;
+  st.expect(0, "voxelize", "a fresh pipeline");
+  const Index3& n = st.n;
+  Ppohdem10Trace& trace = st.trace;
   // 1. z-ray voxelisation, column by column (each rank does its own columns; the result does
   //    not depend on the split).
-  NodeFlags value(n);
   for (int j = 1; j <= n[1]; ++j) {
     for (int i = 1; i <= n[0]; ++i) {
-      const Ppohdem10Column column = ppohdem10_zray_column(facets, g, i, j);
+      const Ppohdem10Column column = ppohdem10_zray_column(st.facets, st.g, i, j);
       if (column.crossings.size() % 2 == 1) ++trace.odd_crossing_columns;
       if (column.candidates > kPpohdem10MaxFacetCrossList) ++trace.overflowing_columns;
       for (const double c : column.crossings) {
@@ -128,31 +153,63 @@ Ppohdem10Trace ppohdem10_distance_trace(const TriangleMesh& placed_mesh, const V
           break;
         }
       }
-      for (int k = 1; k <= n[2]; ++k) value(i, j, k) = column.inside[static_cast<std::size_t>(k)];
+      for (int k = 1; k <= n[2]; ++k) st.value(i, j, k) = column.inside[static_cast<std::size_t>(k)];
     }
   }
-  trace.voxel_inside = value.gridspec_order();
+  trace.voxel_inside = st.value.gridspec_order();
+  st.done = 1;
+}
 
+void Ppohdem10VoxelizerStages::pass1() {
+  State& st = *state_;
+  st.expect(1, "pass 1 (distancecalculate_MPI1)", "the voxelisation (makevoxel)");
   // 2. Pass 1. distance_3D starts at the sentinel everywhere, ghost planes included.
-  std::vector<RankSlab> ranks = make_ranks(n, nprocs, trace.sentinel);
-  NodeFlags calculated(n);
-  jacobi_pass(ranks, g, value, calculated);
-  trace.pass1 = gather(ranks, n);
+  st.ranks = make_ranks(st.n, st.nprocs, st.trace.sentinel);
+  jacobi_pass(st.ranks, st.g, st.value, st.calculated);
+  st.trace.pass1 = gather(st.ranks, st.n);
+  st.done = 2;
+}
 
+void Ppohdem10VoxelizerStages::exact_band() {
+  State& st = *state_;
+  st.expect(2, "the exact band (distanceprecise)", "pass 1 (distancecalculate_MPI1)");
   // 3. Exact band.
-  NodeFlags vote_inside(n);
-  for (RankSlab& s : ranks) exact_band(s, g, facets, value, calculated, vote_inside);
-  const double hx = g.lx / n[0];
-  const double hy = g.ly / n[1];
-  const double hz = g.lz / n[2];
-  trace.band_width = 2 * std::sqrt(hx * hx + hy * hy + hz * hz);
-  trace.in_band = calculated.gridspec_order();
-  trace.vote_inside = vote_inside.gridspec_order();
+  for (RankSlab& s : st.ranks) exact_band_of_rank(s, st.g, st.facets, st.value, st.calculated, st.vote_inside);
+  const double hx = st.g.lx / st.n[0];
+  const double hy = st.g.ly / st.n[1];
+  const double hz = st.g.lz / st.n[2];
+  st.trace.band_width = 2 * std::sqrt(hx * hx + hy * hy + hz * hz);
+  st.trace.in_band = st.calculated.gridspec_order();
+  st.trace.vote_inside = st.vote_inside.gridspec_order();
+  st.done = 3;
+}
 
+void Ppohdem10VoxelizerStages::pass2() {
+  State& st = *state_;
+  st.expect(3, "pass 2 (distancecalculate_MPI2)", "the exact band (distanceprecise)");
   // 4. Pass 2 from the frozen band.
-  jacobi_pass(ranks, g, value, calculated);
-  trace.distance = gather(ranks, n);
-  return trace;
+  jacobi_pass(st.ranks, st.g, st.value, st.calculated);
+  st.trace.distance = gather(st.ranks, st.n);
+  st.done = 4;
+}
+
+int Ppohdem10VoxelizerStages::stages_done() const { return state_->done; }
+
+std::vector<double> Ppohdem10VoxelizerStages::distance() const {
+  if (state_->done == 0) return std::vector<double>(state_->value.gridspec_order().size(), state_->trace.sentinel);
+  return gather(state_->ranks, state_->n);
+}
+
+const Ppohdem10Trace& Ppohdem10VoxelizerStages::trace() const { return state_->trace; }
+
+Ppohdem10Trace ppohdem10_distance_trace(const TriangleMesh& placed_mesh, const VoxelizerInput& input,
+                                        int nprocs) {
+  Ppohdem10VoxelizerStages stages(placed_mesh, input, nprocs);
+  stages.voxelize();
+  stages.pass1();
+  stages.exact_band();
+  stages.pass2();
+  return stages.trace();
 }
 
 std::vector<double> ppohdem10_distance(const TriangleMesh& placed_mesh, const VoxelizerInput& input, int nprocs) {

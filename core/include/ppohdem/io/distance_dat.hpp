@@ -54,6 +54,12 @@ struct DistanceDat {
 void write_distance_dat(const std::filesystem::path& dir, std::span<const double> values, const Index3& nodes,
                         int nprocs);
 
+/// Only rank `rank`'s file of an `nprocs`-rank set, byte for byte what write_distance_dat
+/// writes for it, to `file` (any name; the original names it prefix + distance_NNNN.dat), written
+/// atomically. For programs whose MPI ranks each write their own file.
+void write_distance_dat_rank(const std::filesystem::path& file, std::span<const double> values,
+                             const Index3& nodes, int nprocs, int rank);
+
 /// Read rank 0's header, then every rank file it names, from the directory `dir_or_rank0_file`
 /// or from the directory holding that rank-0 file. InputError (file:line, expected, found) on a
 /// bad header, a missing rank file, a malformed record, indices out of the expected order, or

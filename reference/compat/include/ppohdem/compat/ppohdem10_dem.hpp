@@ -225,10 +225,26 @@ class Ppohdem10Dem {
   /// and the object field is that of frame step / 500; the contact history and the particle
   /// order of the original at that step are unknown, so only a step-0 start is bitwise (a start
   /// from a state without contacts, like step 500 of the sample, is bitwise too).
-  explicit Ppohdem10Dem(const Ppohdem10DemInput& input);
+  explicit Ppohdem10Dem(const Ppohdem10DemInput& input) : Ppohdem10Dem(input, true) {}
+  /// With sort_by_cell = false the particles stay in creation order until update_index()
+  /// (the library's ppohDEM_pre, which the program follows with ppohDEM_update_index).
+  Ppohdem10Dem(const Ppohdem10DemInput& input, bool sort_by_cell);
 
   /// One pass of the original's time loop (steps 1-5 of the file comment).
   Ppohdem10StepEvents step();
+
+  // The same pass stage by stage, as the library's subroutines run it (bindings/fortran/dem):
+  /// ppohDEM_update_index: sort the particles by cell.
+  void update_index();
+  /// ppohDEM_check_update (step 1); true if it re-sorted.
+  bool check_update();
+  /// ppohDEM_integrate_system (steps 2-3).
+  void integrate_system();
+  /// The counters of ppohDEM_dataout (step 4); true if a frame is due (file_index advanced).
+  bool advance_counters();
+  /// The field update of ppohDEM_check_objects (step 5) if itime is a multiple of 500; true if
+  /// it updated.
+  bool check_objects();
   /// The loop's exit test: rtime > Time_finish.
   bool finished() const { return counter_.rtime > params_.input.time_finish; }
 
@@ -282,6 +298,10 @@ void ppohdem10_embedding(Ppohdem10Particles& particles, const Ppohdem10Object& o
 void ppohdem10_symplectic(Ppohdem10Particles& particles);
 /// The field part of ppohDEM_check_objects: resample the data for frame `omega_count` (Q6).
 void ppohdem10_update_object_field(Ppohdem10Object& object, int omega_count);
+
+/// data/outNNN.dat of any particles: `x y z radius` per line, format (7e16.6) (what
+/// Ppohdem10Dem::frame_text writes; also used for the Fortran interface's corrected physics).
+std::string ppohdem10_frame_text(const std::vector<Rvec3>& positions, const std::vector<double>& radius);
 
 /// What `ppohdem simulate --compat ppohdem-1.0` does (apps/cmd_simulate_compat.cpp).
 struct Ppohdem10RunOptions {

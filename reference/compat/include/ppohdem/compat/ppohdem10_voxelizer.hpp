@@ -32,6 +32,8 @@
 /// candidate facets in a column overflow a fixed array) this module takes the choice documented
 /// there and counts the occurrences.
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "ppohdem/geometry/vector.hpp"
@@ -77,6 +79,36 @@ struct Ppohdem10Trace {
 /// gridX as its j index and would run out of its array).
 std::vector<double> ppohdem10_distance(const TriangleMesh& placed_mesh, const VoxelizerInput& input,
                                        int nprocs);
+
+/// The same pipeline one stage at a time, as the original library's subroutines run it
+/// (ppohDEM_v_makevoxel, ppohDEM_v_distancecalculate_MPI1, ppohDEM_v_distanceprecise,
+/// ppohDEM_v_distancecalculate_MPI2; bindings/fortran/util). Each stage throws
+/// std::logic_error naming its prerequisite if called out of order; distance() is the field
+/// after the last stage run (each rank's own planes, GridSpec order).
+class Ppohdem10VoxelizerStages {
+ public:
+  Ppohdem10VoxelizerStages(const TriangleMesh& placed_mesh, const VoxelizerInput& input, int nprocs);
+  ~Ppohdem10VoxelizerStages();
+  Ppohdem10VoxelizerStages(const Ppohdem10VoxelizerStages&) = delete;
+  Ppohdem10VoxelizerStages& operator=(const Ppohdem10VoxelizerStages&) = delete;
+
+  void voxelize();    ///< 1. z-ray voxelisation
+  void pass1();       ///< 2. Jacobi pass from the voxel-inside nodes
+  void exact_band();  ///< 3. exact signed distances in the band, frozen
+  void pass2();       ///< 4. Jacobi pass from the band
+  int stages_done() const;  ///< 0..4
+  std::vector<double> distance() const;
+  const Ppohdem10Trace& trace() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// object_mesh.stl as the original's output_object_mesh writes it: the placed mesh with the
+/// input's facet normals, every line list-directed (one leading blank, reals with 17 significant
+/// digits), e.g. "        vertex 24.999997000001500 24.999999700000149 13.000000000000000".
+std::string ppohdem10_object_mesh_stl(const TriangleMesh& placed_mesh);
 
 /// The same computation, keeping every intermediate field.
 Ppohdem10Trace ppohdem10_distance_trace(const TriangleMesh& placed_mesh, const VoxelizerInput& input,
