@@ -20,8 +20,6 @@ constexpr int kMaxDepth = 8;
 /// axis. Dragon 128^3, band 3 (2026-12-01, docs/performance.md): 2 gives 4.5 distance evaluations
 /// per node, max/RMS error 3.8/0.14 h; 4 gives 3.2 per node, 5.6/0.22 h (chosen: the speed target).
 constexpr int kTransferLeaf = 4;
-/// Band mode: buckets of a leaf box's candidates by their gap to the box (scan_buckets()).
-constexpr int kLeafBuckets = BrickDistance::kLeafBuckets;
 
 /// max(a, 0) written so that the compiler turns it into a vector max (no branch).
 inline double positive(double a) { return a > 0.0 ? a : 0.0; }
