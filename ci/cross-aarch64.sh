@@ -7,12 +7,13 @@
 #   FP_CONTRACT=fast ci/cross-aarch64.sh   GCC's default on aarch64: fused multiply-adds
 #
 # Runs, each on both machines (work files in ${CROSS_DIR:-build-aarch64}/runs/{x86_64,aarch64}):
-#   sdf    the fast builder's exact field (no band) of fixtures/meshes/fandisk.stl, 41 x 29 x 41
+#   sdf    the fast builder's exact field (no band) of fixtures/meshes/fandisk.stl, 21 x 15 x 21
 #          nodes, and the reference builder's exact field of fixtures/meshes/box.stl;
-#   hertz  fixtures/scenes/two_spheres.toml: one Hertz-Mindlin pair, head-on, 40,000 steps
-#          (the whole contact), reference and fast engines;
+#   hertz  fixtures/scenes/two_spheres.toml: one Hertz-Mindlin pair, head-on, 12,000 steps
+#          (approach and the whole contact), reference and fast engines;
 #   seed   the seed's sample (fixtures/seed-sample): voxelize the dragon, then its first
-#          ${SEED_STEPS:-1000} steps with the reference and the fast engine.
+#          ${SEED_STEPS:-1000} steps with the reference and the fast engine (SEED_FIELD=host: the
+#          aarch64 run takes the x86-64 run's dragon field; SEED_STEPS=N: fewer steps).
 # Prints one line per compared file (same / DIFFERS with the count of differing numbers and the
 # largest relative difference) and exits non-zero if any file differs.
 # The x86-64 side is ${HOST_BUILD_DIR:-build} (configured and built here if missing: target
@@ -26,6 +27,7 @@ CROSS_DIR=${CROSS_DIR:-build-aarch64}
 [ "$FP_CONTRACT" = fast ] && CROSS_DIR=${CROSS_DIR}-contract
 HOST_BUILD_DIR=${HOST_BUILD_DIR:-build}
 SEED_STEPS=${SEED_STEPS:-1000}
+HERTZ_STEPS=${HERTZ_STEPS:-12000}  # contact from step ~10,000 to ~11,800
 JOBS=${JOBS:-$(nproc)}
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
 
@@ -57,18 +59,22 @@ run_all() {  # run_all <dir> <ppohdem command...>
   local dir=$1; shift
   rm -rf "$dir"; mkdir -p "$dir"/{sdf,hertz_reference,hertz_fast,seed}
   (cd "$dir/sdf" &&
-     "$@" voxelize --quiet --mesh "$SRC/fixtures/meshes/fandisk.stl" --cells 41 29 41 \
+     "$@" voxelize --quiet --mesh "$SRC/fixtures/meshes/fandisk.stl" --cells 21 15 21 \
        --box -0.6 -0.4 -0.6 0.6 0.4 0.6 --method fast --out fandisk_fast.vtk &&
      "$@" voxelize --quiet --mesh "$SRC/fixtures/meshes/box.stl" --cells 21 11 7 \
        --box -1.5 -1 -0.75 1.5 1 0.75 --method exact --out box_exact.vtk)
   for engine in reference fast; do
     cp "$SRC/fixtures/scenes/two_spheres.toml" "$SRC/fixtures/scenes/two_spheres.csv" "$dir/hertz_$engine/"
-    (cd "$dir/hertz_$engine" && "$@" simulate --quiet --engine "$engine" two_spheres.toml)
+    (cd "$dir/hertz_$engine" && "$@" simulate --quiet --engine "$engine" --steps "$HERTZ_STEPS" two_spheres.toml)
   done
   cp "$SRC/fixtures/seed-sample/input_params_update.dat" "$dir/seed/"
   { echo "$SRC/fixtures/meshes/dragon_100k.stl"; tail -n +2 "$SRC/fixtures/seed-sample/input_constants_voxelizer.dat"; } \
     >"$dir/seed/input_constants_voxelizer.dat"
-  (cd "$dir/seed" && "$@" voxelize --quiet input_constants_voxelizer.dat)
+  if [ -n "${SEED_FIELD_FROM:-}" ]; then  # the dragon's field made by the other machine's run
+    cp "$SEED_FIELD_FROM"/distance_*.dat "$SEED_FIELD_FROM"/object_mesh.stl "$dir/seed/"
+  else
+    (cd "$dir/seed" && "$@" voxelize --quiet input_constants_voxelizer.dat)
+  fi
   for engine in reference fast; do
     mkdir -p "$dir/seed/$engine"
     cp "$dir/seed/input_params_update.dat" "$dir/seed/$engine/"
@@ -80,6 +86,10 @@ RUNS="$CROSS_DIR/runs"
 echo "cross-aarch64: x86-64 runs"
 time run_all "$RUNS/x86_64" "${X86_EXE[@]}"
 echo "cross-aarch64: aarch64 runs (qemu-user)"
+# SEED_FIELD=host: the aarch64 seed run reads the x86-64 run's dragon field instead of making its
+# own (76^3 nodes, 100,000 triangles: long under qemu on a busy machine); the seed comparison
+# then checks the DEM alone (the SDF comparison is the `sdf` runs').
+if [ "${SEED_FIELD:-}" = host ]; then export SEED_FIELD_FROM="$SRC/$RUNS/x86_64/seed"; fi
 time run_all "$RUNS/aarch64" "${ARM_EXE[@]}"
 
 # ---- compare ----------------------------------------------------------------------------------
