@@ -27,9 +27,11 @@ PACKAGES=(
 if [ "${1:-}" = "--peers" ]; then
   PACKAGES+=(liggghts lammps)
 fi
-# The aarch64 cross build run under qemu-user (issue 39).
+# The aarch64 cross build run under qemu-user (docs/portability.md); its zlib is Debian's arm64
+# package (multiarch: the arm64 architecture is added to dpkg first).
 if [ "${1:-}" = "--cross" ]; then
-  PACKAGES+=(g++-aarch64-linux-gnu qemu-user)
+  PACKAGES+=(g++-aarch64-linux-gnu qemu-user zlib1g-dev:arm64)
+  if ! dpkg --print-foreign-architectures | grep -qx arm64; then $SUDO dpkg --add-architecture arm64; fi
 fi
 missing=()
 for p in "${PACKAGES[@]}"; do

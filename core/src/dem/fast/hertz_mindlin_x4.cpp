@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "ppohdem/simd_level.hpp"
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define PPOHDEM_X4 1
@@ -267,10 +269,7 @@ template <bool kEnergy>
 
 }  // namespace
 
-bool x4_contacts_available() {
-  static const bool available = __builtin_cpu_supports("avx") != 0;
-  return available;
-}
+bool x4_contacts_available() { return simd_level() >= SimdLevel::avx; }  // the CPU's, or PPOHDEM_SIMD's
 
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,

@@ -97,7 +97,8 @@ void FastEngine::Impl::search_neighbours(const CellOrder* sorted) {
   // `near` (unsorted): the 3 x 3 rows of three cells around i's cell along the grid's fastest
   // axis (contiguous in the cell order), tested by near_members (four at a time with AVX);
   // `candidates` has room for every member and the 3 more that near_members may write.
-  const auto [along, across1, across2] = grid.order;
+  // Named one by one, not a structured binding: Clang 14 cannot capture those in the lambda.
+  const std::size_t along = grid.order[0], across1 = grid.order[1], across2 = grid.order[2];
   auto visit = [&](std::size_t i, std::vector<std::uint32_t>& candidates, std::vector<std::pair<std::int64_t, std::uint32_t>>& near) {
     const Vec3 xi = s.x[i];
     const Index3 c = grid.index(xi);

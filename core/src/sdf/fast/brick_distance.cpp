@@ -20,8 +20,6 @@ constexpr int kMaxDepth = 8;
 /// axis. 4 rather than 2 trades a larger (still proven) error beyond the band for fewer distance
 /// evaluations per node, for the speed target (docs/performance.md "Trials that were dropped").
 constexpr int kTransferLeaf = 4;
-/// Band mode: buckets of a leaf box's candidates by their gap to the box (scan_buckets()).
-constexpr int kLeafBuckets = BrickDistance::kLeafBuckets;
 
 /// max(a, 0) written so that the compiler turns it into a vector max (no branch).
 inline double positive(double a) { return a > 0.0 ? a : 0.0; }

@@ -15,6 +15,7 @@
 #include "ppohdem/sdf/fast/brick_distance.hpp"
 #include "ppohdem/sdf/fast/column_sign.hpp"
 #include "ppohdem/sdf/fast/nearest_triangle.hpp"
+#include "ppohdem/simd_level.hpp"
 
 #if defined(PPOHDEM_WITH_OPENMP)
 #include <omp.h>
@@ -70,6 +71,7 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
     throw InputError("fast SDF builder: band must be a finite number of cells >= 0 (0: exact everywhere), got " +
                      std::to_string(options_.band_cells));
   }
+  (void)simd_level();  // a bad PPOHDEM_SIMD is reported here, not inside the parallel loops
   const double coordinate_scale =
       std::max(grid.origin.cwiseAbs().maxCoeff(), grid.upper_corner().cwiseAbs().maxCoeff());
   const bool band_mode = options_.band_cells > 0.0;

@@ -3,6 +3,8 @@
 /// split. See nearest_triangle.hpp.
 #include "ppohdem/sdf/fast/nearest_triangle.hpp"
 
+#include "ppohdem/simd_level.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -763,255 +765,37 @@ struct LanesAvx512 {
   }
 };
 
-/// refine_packet() with each point in a lane of L (4 or 8 points; count <= L::kWidth, the other
-/// lanes are never active). The children's bounds are measured for all points at once, one
-/// child per pass (the operations of node_lower_bound() per lane, no FMA: this file is compiled
-/// with -ffp-contract=off, see CMakeLists.txt), and the masks of the points within their bounds
-/// are compares of whole registers. A pending node keeps its bound per point, NaN for the points
-/// not active in it (a compare with NaN is false). As in refine_packet(), each point's bounds,
-/// triangle tests and minimum are its own, so its result is nearest()'s bit for bit.
-// The templates are only instantiated inside the flattened AVX / AVX-512 functions below, so no
-// call with vector arguments crosses from code compiled without them (GCC's -Wpsabi note). Not
-// popped: GCC reports it where the templates are instantiated, at the end of the file.
-#pragma GCC diagnostic ignored "-Wpsabi"
-/// (ux vx + uy vy) + uz vz per lane (Eigen's order for a Vec3 dot product and squared norm).
-template <class L, class V = typename L::V>
-[[gnu::always_inline]] inline V lanes_dot(const V& ux, const V& uy, const V& uz, const V& vx, const V& vy,
-                                          const V& vz) {
-  return L::add(L::add(L::mul(ux, vx), L::mul(uy, vy)), L::mul(uz, vz));
-}
-
-/// |(q + s u) - p|^2 per lane: the closest point of an edge case.
-template <class L, class V = typename L::V>
-[[gnu::always_inline]] inline V lanes_edge(const V& x, const V& y, const V& z, const V& qx, const V& qy, const V& qz,
-                                           const V& s, const V& ux, const V& uy, const V& uz) {
-  const V ex = L::sub(L::add(qx, L::mul(s, ux)), x);
-  const V ey = L::sub(L::add(qy, L::mul(s, uy)), y);
-  const V ez = L::sub(L::add(qz, L::mul(s, uz)), z);
-  return lanes_dot<L>(ex, ey, ez, ex, ey, ez);
-}
-
-/// std::clamp(q, lo, hi) per lane: q < lo ? lo : (hi < q ? hi : q).
-template <class L, class V = typename L::V>
-[[gnu::always_inline]] inline V lanes_clamp(const V& q, const V& lo, const V& hi) {
-  return L::select(L::lt(q, lo), lo, L::select(L::lt(hi, q), hi, q));
-}
-
-/// triangle_squared_distance() of a regular triangle (kind 0) for every lane's point, the same
-/// operations per lane (Ericson's regions tested in the same order, each lane taking the first
-/// that holds; no FMA, see refine_lanes()). Lanes whose face case has !(sum > 0), which the
-/// scalar code sends to the edges, are left out of the returned mask: the caller measures them
-/// with the scalar code.
-template <class L, class V = typename L::V, class M = typename L::M>
-[[gnu::always_inline]] inline M triangle_squared_distance_lanes(const PreparedTriangle& t, const V& x, const V& y,
-                                                                const V& z, V& out) {
-  const V zero = L::zero(), one = L::set1(1.0);
-  const V abx = L::set1(t.ab.x()), aby = L::set1(t.ab.y()), abz = L::set1(t.ab.z());
-  const V acx = L::set1(t.ac.x()), acy = L::set1(t.ac.y()), acz = L::set1(t.ac.z());
-  const V ax = L::set1(t.a.x()), ay = L::set1(t.a.y()), az = L::set1(t.a.z());
-  const V apx = L::sub(x, ax), apy = L::sub(y, ay), apz = L::sub(z, az);
-  const V d1 = lanes_dot<L>(abx, aby, abz, apx, apy, apz);
-  const V d2 = lanes_dot<L>(acx, acy, acz, apx, apy, apz);
-  const V bx = L::set1(t.b.x()), by = L::set1(t.b.y()), bz = L::set1(t.b.z());
-  const V bpx = L::sub(x, bx), bpy = L::sub(y, by), bpz = L::sub(z, bz);
-  const V d3 = lanes_dot<L>(abx, aby, abz, bpx, bpy, bpz);
-  const V d4 = lanes_dot<L>(acx, acy, acz, bpx, bpy, bpz);
-  const V cx = L::set1(t.c.x()), cy = L::set1(t.c.y()), cz = L::set1(t.c.z());
-  const V cpx = L::sub(x, cx), cpy = L::sub(y, cy), cpz = L::sub(z, cz);
-  const V d5 = lanes_dot<L>(abx, aby, abz, cpx, cpy, cpz);
-  const V d6 = lanes_dot<L>(acx, acy, acz, cpx, cpy, cpz);
-  const V vc = L::sub(L::mul(d1, d4), L::mul(d3, d2));
-  const V vb = L::sub(L::mul(d5, d2), L::mul(d1, d6));
-  const V va = L::sub(L::mul(d3, d6), L::mul(d5, d4));
-  const V d43 = L::sub(d4, d3), d56 = L::sub(d5, d6);
-  // Regions in the scalar code's order; `done`: the lanes already decided.
-  M done = L::both(L::le(d1, zero), L::le(d2, zero));
-  V result = lanes_dot<L>(apx, apy, apz, apx, apy, apz);
-  M r = L::but(L::both(L::le(zero, d3), L::le(d4, d3)), done);
-  result = L::select(r, lanes_dot<L>(bpx, bpy, bpz, bpx, bpy, bpz), result);
-  done = L::either(done, r);
-  r = L::but(L::both(L::both(L::le(vc, zero), L::le(zero, d1)), L::le(d3, zero)), done);
-  if (L::bits(r) != 0) {
-    result = L::select(r, lanes_edge<L>(x, y, z, ax, ay, az, L::div(d1, L::sub(d1, d3)), abx, aby, abz), result);
-  }
-  done = L::either(done, r);
-  r = L::but(L::both(L::le(zero, d6), L::le(d5, d6)), done);
-  result = L::select(r, lanes_dot<L>(cpx, cpy, cpz, cpx, cpy, cpz), result);
-  done = L::either(done, r);
-  r = L::but(L::both(L::both(L::le(vb, zero), L::le(zero, d2)), L::le(d6, zero)), done);
-  if (L::bits(r) != 0) {
-    result = L::select(r, lanes_edge<L>(x, y, z, ax, ay, az, L::div(d2, L::sub(d2, d6)), acx, acy, acz), result);
-  }
-  done = L::either(done, r);
-  r = L::but(L::both(L::both(L::le(va, zero), L::le(zero, d43)), L::le(zero, d56)), done);
-  if (L::bits(r) != 0) {
-    const V bcx = L::sub(cx, bx), bcy = L::sub(cy, by), bcz = L::sub(cz, bz);
-    result = L::select(r, lanes_edge<L>(x, y, z, bx, by, bz, L::div(d43, L::add(d43, d56)), bcx, bcy, bcz), result);
-  }
-  done = L::either(done, r);
-  const V sum = L::add(L::add(va, vb), vc);
-  const M face = L::but(L::lt(zero, sum), done);
-  if (L::bits(face) != 0) {
-    const V v = lanes_clamp<L>(L::div(vb, sum), zero, one);
-    const V w = lanes_clamp<L>(L::div(vc, sum), zero, L::sub(one, v));
-    const V fx = L::sub(L::add(L::add(ax, L::mul(v, abx)), L::mul(w, acx)), x);
-    const V fy = L::sub(L::add(L::add(ay, L::mul(v, aby)), L::mul(w, acy)), y);
-    const V fz = L::sub(L::add(L::add(az, L::mul(v, abz)), L::mul(w, acz)), z);
-    result = L::select(face, lanes_dot<L>(fx, fy, fz, fx, fy, fz), result);
-  }
-  out = result;
-  return L::either(done, face);
-}
-
 /// From this many points within a triangle's box on, their distances are computed in lanes: from
 /// 1 or 2 points on they are equally fast, from 3 on slower (docs/performance.md "Trials that
 /// were dropped").
 constexpr int kLanesMinPoints = 2;
 
-template <class L>
-inline void refine_lanes(const TriangleTree::OrientedNode* nodes, const TriangleTree::ChildPair* pairs,
-                         const std::vector<PreparedTriangle>& triangles, double slack, const Vec3* p, int count,
-                         TriangleTree::Nearest* best) {
-  using V = typename L::V;
-  using M = typename L::M;
-  constexpr int W = L::kWidth;
-  // Unused lanes: a copy of point 0 with a NaN prune bound, so no compare ever activates them.
-  double px[W], py[W], pz[W], prune_bound[W], root_bound[W];
-  for (int c = 0; c < W; ++c) {
-    const int q = c < count ? c : 0;
-    px[c] = p[q].x(), py[c] = p[q].y(), pz[c] = p[q].z();
-    prune_bound[c] = c < count ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
-    if (c < count && std::isfinite(best[c].squared_distance)) {
-      const double r = std::sqrt(best[c].squared_distance) + slack;
-      prune_bound[c] = r * r;
-    }
-    root_bound[c] = node_lower_bound(nodes[0], px[c], py[c], pz[c]);
-  }
-  const V x = L::load(px), y = L::load(py), z = L::load(pz), zero = L::zero();
-  const V nan = L::set1(std::numeric_limits<double>::quiet_NaN());
-  V prune = L::load(prune_bound);
-  M active = L::le(L::load(root_bound), prune);
-  if (L::bits(active) == 0) return;
-  struct Pending {
-    double bound[W];  // the node's bound for each point active in it, NaN for the others
-    std::uint32_t node;
-  };
-  Pending stack[128];
-  int top = 0;
-  std::uint32_t current = 0;
-  for (;;) {
-    const TriangleTree::OrientedNode& node = nodes[current];
-    if (node.count > 0) {
-      for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
-        const PreparedTriangle& t = triangles[s];
-        // point_box_squared() per lane.
-        const V dx = L::max(L::max(L::sub(L::set1(t.lo[0]), x), L::sub(x, L::set1(t.hi[0]))), zero);
-        const V dy = L::max(L::max(L::sub(L::set1(t.lo[1]), y), L::sub(y, L::set1(t.hi[1]))), zero);
-        const V dz = L::max(L::max(L::sub(L::set1(t.lo[2]), z), L::sub(z, L::set1(t.hi[2]))), zero);
-        const V d2box = L::add(L::add(L::mul(dx, dx), L::mul(dy, dy)), L::mul(dz, dz));
-        unsigned near = L::bits(L::both(L::le(d2box, prune), active));
-        if (near == 0) continue;
-        double lane_d2[W];
-        unsigned in_lanes = 0;  // the points whose distance the lanes computed
-        if (t.kind == 0 && __builtin_popcount(near) >= kLanesMinPoints) {
-          V d2v;
-          in_lanes = L::bits(triangle_squared_distance_lanes<L>(t, x, y, z, d2v));
-          L::store(lane_d2, d2v);
-        }
-        for (; near != 0; near &= near - 1) {
-          const int c = __builtin_ctz(near);
-          const double d2 = (in_lanes >> c) & 1u ? lane_d2[c] : triangle_squared_distance(p[c], t);
-          if (d2 < best[c].squared_distance || (d2 == best[c].squared_distance && s < best[c].triangle)) {
-            best[c].squared_distance = d2;
-            best[c].triangle = s;
-            const double r = std::sqrt(d2) + slack;
-            prune = L::set_lane(prune, c, r * r);
-          }
-        }
-      }
-    } else {
-      const TriangleTree::ChildPair& pair = pairs[current];
-      V bound[2];
-      for (int k = 0; k < 2; ++k) {
-        V sum = zero;
-        for (int r = 0; r < 3; ++r) {
-          const V s = L::add(L::add(L::mul(L::set1(pair.axis[r][0][k]), x), L::mul(L::set1(pair.axis[r][1][k]), y)),
-                             L::mul(L::set1(pair.axis[r][2][k]), z));
-          const V g = L::max(L::max(L::sub(s, L::set1(pair.hi[r][k])), L::sub(L::set1(pair.lo[r][k]), s)), zero);
-          sum = L::add(sum, L::mul(g, g));
-        }
-        bound[k] = sum;
-      }
-      const M in_left = L::both(L::le(bound[0], prune), active);
-      const M in_right = L::both(L::le(bound[1], prune), active);
-      const unsigned left_bits = L::bits(in_left), right_bits = L::bits(in_right);
-      if ((left_bits | right_bits) != 0) {
-        // Nearer on average first (only the order; the sums' rounding does not matter).
-        const bool left_first =
-            right_bits == 0 || (left_bits != 0 && L::sum(active, bound[0]) <= L::sum(active, bound[1]));
-        const int first = left_first ? 0 : 1;
-        const unsigned other_bits = left_first ? right_bits : left_bits;
-        if (other_bits != 0) {
-          Pending& e = stack[top++];
-          e.node = left_first ? node.first : current + 1;
-          L::store(e.bound, L::select(left_first ? in_right : in_left, bound[1 - first], nan));
-        }
-        active = left_first ? in_left : in_right;
-        current = left_first ? current + 1 : node.first;
-        continue;
-      }
-    }
-    // Pop the next box still within the bound of one of its points.
-    bool found = false;
-    while (top > 0) {
-      const Pending& candidate = stack[--top];
-      const M still = L::le(L::load(candidate.bound), prune);
-      if (L::bits(still) != 0) {
-        current = candidate.node;
-        active = still;
-        found = true;
-        break;
-      }
-    }
-    if (!found) break;
-  }
-}
+// The lane traversals, one namespace per instruction set (refine_lanes.inc).
+namespace avx {
+using L = LanesAvx;
+#define PPOHDEM_LANES_TARGET "avx"
+#include "refine_lanes.inc"
+#undef PPOHDEM_LANES_TARGET
+}  // namespace avx
 
-__attribute__((target("avx"), flatten)) void refine_lanes_avx(const TriangleTree::OrientedNode* nodes,
-                                                              const TriangleTree::ChildPair* pairs,
-                                                              const std::vector<PreparedTriangle>& triangles,
-                                                              double slack, const Vec3* p, int count,
-                                                              TriangleTree::Nearest* best) {
-  refine_lanes<LanesAvx>(nodes, pairs, triangles, slack, p, count, best);
-}
+namespace avx512 {
+using L = LanesAvx512;
+#define PPOHDEM_LANES_TARGET "avx512f"
+#include "refine_lanes.inc"
+#undef PPOHDEM_LANES_TARGET
+}  // namespace avx512
 
-__attribute__((target("avx512f"), flatten)) void refine_lanes_avx512(const TriangleTree::OrientedNode* nodes,
-                                                                     const TriangleTree::ChildPair* pairs,
-                                                                     const std::vector<PreparedTriangle>& triangles,
-                                                                     double slack, const Vec3* p, int count,
-                                                                     TriangleTree::Nearest* best) {
-  refine_lanes<LanesAvx512>(nodes, pairs, triangles, slack, p, count, best);
-}
-
-// At static initialization: __builtin_cpu_init() first (GCC's rule for constructors). It also
-// checks that the OS saves the AVX / AVX-512 registers.
-const bool kHaveAvx512 = [] {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f") != 0;
-}();
-
-const bool kHaveAvx = [] {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx") != 0;
-}();
 #endif
 
 }  // namespace
 
 TriangleTree::PacketSimd TriangleTree::packet_simd_available() {
 #if defined(PPOHDEM_PACKET_AVX)
-  if (kHaveAvx512) return PacketSimd::avx512;
-  if (kHaveAvx) return PacketSimd::avx;
+  switch (simd_level()) {  // the CPU's widest, or PPOHDEM_SIMD's
+    case SimdLevel::avx512: return PacketSimd::avx512;
+    case SimdLevel::avx: return PacketSimd::avx;
+    case SimdLevel::sse2: break;
+  }
 #endif
   return PacketSimd::sse2;
 }
@@ -1042,11 +826,11 @@ void TriangleTree::nearest_packet(const Vec3* p, const std::int64_t* hint, int c
     first += n;
 #if defined(PPOHDEM_PACKET_AVX)
     if (use == PacketSimd::avx512 && n > 1) {
-      refine_lanes_avx512(oriented_.data(), pairs_.data(), triangles_, slack_, q, n, o);
+      avx512::refine_lanes(oriented_.data(), pairs_.data(), triangles_, slack_, q, n, o);
       continue;
     }
     if (use == PacketSimd::avx && n > 1) {
-      refine_lanes_avx(oriented_.data(), pairs_.data(), triangles_, slack_, q, n, o);
+      avx::refine_lanes(oriented_.data(), pairs_.data(), triangles_, slack_, q, n, o);
       continue;
     }
 #endif

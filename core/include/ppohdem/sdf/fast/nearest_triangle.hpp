@@ -132,7 +132,8 @@ class TriangleTree {
   static constexpr int kPacket = 8;
   /// The instruction sets of nearest_packet(), widest first; `best`: the widest the CPU has.
   enum class PacketSimd { best, avx512, avx, sse2 };
-  /// The widest of them this CPU runs (checked at run time).
+  /// The widest of them this CPU runs (checked at run time), or narrower if PPOHDEM_SIMD says so
+  /// (ppohdem/simd_level.hpp).
   static PacketSimd packet_simd_available();
   /// nearest(p[c], hint[c]) for c < count <= kPacket in one traversal of the tree: a node is
   /// opened while it is within the bound of one of the points still active in it, and each

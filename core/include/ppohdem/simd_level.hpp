@@ -1,0 +1,31 @@
+#pragma once
+/// \file simd_level.hpp
+/// The SIMD instruction set the optimized kernels use: the widest this CPU runs, or a narrower
+/// one forced with the environment variable PPOHDEM_SIMD (docs/portability.md, "SIMD levels").
+/// Every run-time dispatch (the SDF packet traversal, the DEM's four-lane contacts and
+/// neighbour test) asks simd_level(); the results are the same bits at every level.
+#include <optional>
+#include <string_view>
+
+namespace ppohdem {
+
+/// Narrowest first. `sse2`: no wide lanes, the code every x86-64 CPU runs (on other machines,
+/// e.g. aarch64, the portable code and the only level).
+enum class SimdLevel { sse2, avx, avx512 };
+
+/// "sse2", "avx" or "avx512".
+const char* simd_level_name(SimdLevel level);
+
+/// The widest level this CPU (and its OS, which must save the wide registers) runs and this
+/// build has code for. Checked at run time.
+SimdLevel cpu_simd_level();
+
+/// A value of PPOHDEM_SIMD: "sse2", "avx", "avx512", or "auto" / "" (nullopt: the CPU's own).
+/// Throws InputError naming the variable and the accepted values for anything else.
+std::optional<SimdLevel> parse_simd_level(std::string_view text);
+
+/// The level the kernels use: PPOHDEM_SIMD's if set, else cpu_simd_level(). Read once per
+/// process. Throws InputError for a bad value or a level this CPU does not run.
+SimdLevel simd_level();
+
+}  // namespace ppohdem

@@ -1,0 +1,58 @@
+#include "ppohdem/simd_level.hpp"
+
+#include <cstdlib>
+#include <string>
+
+#include "ppohdem/error.hpp"
+
+namespace ppohdem {
+
+const char* simd_level_name(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::avx512: return "avx512";
+    case SimdLevel::avx: return "avx";
+    case SimdLevel::sse2: break;
+  }
+  return "sse2";
+}
+
+SimdLevel cpu_simd_level() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  // Also checks that the OS saves the AVX / AVX-512 registers (XGETBV).
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f") != 0) return SimdLevel::avx512;
+  if (__builtin_cpu_supports("avx") != 0) return SimdLevel::avx;
+#endif
+  return SimdLevel::sse2;
+}
+
+std::optional<SimdLevel> parse_simd_level(std::string_view text) {
+  if (text.empty() || text == "auto") return std::nullopt;
+  for (const SimdLevel level : {SimdLevel::sse2, SimdLevel::avx, SimdLevel::avx512}) {
+    if (text == simd_level_name(level)) return level;
+  }
+  throw InputError("environment variable PPOHDEM_SIMD: expected sse2, avx, avx512 or auto, found '" +
+                   std::string(text) + "'");
+}
+
+namespace {
+SimdLevel resolve_simd_level() {
+  const SimdLevel cpu = cpu_simd_level();
+  const char* text = std::getenv("PPOHDEM_SIMD");
+  const std::optional<SimdLevel> forced = parse_simd_level(text != nullptr ? text : "");
+  if (!forced) return cpu;
+  if (*forced > cpu) {
+    throw InputError(std::string("environment variable PPOHDEM_SIMD: '") + simd_level_name(*forced) +
+                     "' is wider than this CPU or build runs (at most '" + simd_level_name(cpu) + "')");
+  }
+  return *forced;
+}
+}  // namespace
+
+SimdLevel simd_level() {
+  // A throw leaves the static uninitialized: the next call reports the error again.
+  static const SimdLevel level = resolve_simd_level();
+  return level;
+}
+
+}  // namespace ppohdem
