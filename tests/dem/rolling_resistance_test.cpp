@@ -272,6 +272,7 @@ RC_GTEST_PROP(RollingResistanceRule, NeverAddsEnergy, ()) {
       work += -0.5 * (previous + m.on_i).dot(rotation);  // the torques' work on the contact
       previous = m.on_i;
     }
+    RC_ASSERT(dissipated >= 0.0);
     // What the bodies put in is stored or dissipated, never more: E_r <= W.
     RC_ASSERT(spring.stored_energy() <= work + 1e-12 * std::abs(work) + 1e-300);
   }

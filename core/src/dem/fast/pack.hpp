@@ -34,7 +34,7 @@ class Packer {
       raw(&value, sizeof value);
     } else {
       static_assert(std::is_same_v<T, TangentialSpring>, "Packer: no rule for this type");
-      TangentialSpring::for_each_field(value, [this](const auto& field) { put(field); });
+      TangentialSpring::for_each_field(value, [&](const auto& field) { put(field); });
     }
   }
 
@@ -72,7 +72,7 @@ class Unpacker {
       raw(&value, sizeof value);
     } else {
       static_assert(std::is_same_v<T, TangentialSpring>, "Unpacker: no rule for this type");
-      TangentialSpring::for_each_field(value, [this](auto& field) { get(field); });
+      TangentialSpring::for_each_field(value, [&](auto& field) { get(field); });
     }
   }
   template <class T>
