@@ -292,7 +292,7 @@ inline int kernel_threads(std::size_t owned) { return owned >= kParallelMin ? ma
 /// shares per second gives the balanced shares; the result moves half-way there (damping: one
 /// interval's timing is noisy) and stays within [1/2, 3/2] of an even share. Even shares if
 /// there is no timing for `ranges` ranges yet (other sizes, or a range without time). Only
-/// the speed of the kernel depends on the shares, never a result.
+/// the kernel's speed depends on the shares, never a result.
 inline std::vector<double> timed_shares(std::size_t ranges, const std::vector<double>& share,
                                         const std::vector<double>& seconds) {
   const double even = 1.0 / static_cast<double>(ranges);
