@@ -125,11 +125,17 @@ class SceneParser {
     if (const toml::node* out_node = root.get("output")) {
       const toml::table* out = out_node->as_table();
       if (!out) fail(out_node, "[output] must be a table");
-      check_keys(*out, "output", {"dir", "every", "formats", "progress"});
+      check_keys(*out, "output", {"dir", "every", "formats", "progress", "loads_every", "loads_average"});
       scene.output.dir = relative_to_scene(require_string(*out, "output", "dir"));
       scene.output.every = optional_integer(*out, "output", "every").value_or(0);
       if (scene.output.every < 0) fail(out->get("every"), "[output] every must be >= 0");
       scene.output.progress = optional_bool(*out, "output", "progress").value_or(true);
+      scene.output.loads_every = optional_integer(*out, "output", "loads_every").value_or(0);
+      if (scene.output.loads_every < 0) fail(out->get("loads_every"), "[output] loads_every must be >= 0");
+      scene.output.loads_average = optional_bool(*out, "output", "loads_average").value_or(false);
+      if (scene.output.loads_average && scene.output.loads_every == 0) {
+        fail(out->get("loads_average"), "[output] loads_average needs loads_every = N (steps) > 0");
+      }
       if (const toml::node* f = out->get("formats")) {
         const toml::array* formats = f->as_array();
         if (!formats) fail(f, "[output] formats: expected an array of strings");
