@@ -23,7 +23,8 @@
 ///      (keeps the stored energy when the contact plane turns; as LIGGGHTS)
 ///   2. trial: xi_tr = xi~ + ds_t,  k' = k_t(delta) (Mindlin: k_t changes with the overlap)
 ///   3. F_t = -k' xi_tr; if |F_t| > mu max(F_n, 0): xi' = c xi_tr with c = mu F_n/(k'|xi_tr|)
-///      (Coulomb slip), else xi' = xi_tr.
+///      (Coulomb slip), else xi' = xi_tr. With the tangential dashpot the cap applies to
+///      -k' xi_tr - gamma_t v_t instead (tangential_dashpot below).
 /// Energy book-keeping per contact and step. Velocity Verlet changes the kinetic energy by
 /// the TRAPEZOID rule of the contact forces along the step's displacement (docs/dem.md):
 ///   dKE = (F(n) + F(n+1))/2 . (x(n+1) - x(n)) + (dt^2/8) m (|a(n+1)|^2 - |a(n)|^2)
