@@ -12,7 +12,7 @@ largest difference relative to the impact speed. Cases: two spheres head-on and 
 E = 1e7 Pa, nu = 0.3, e = 0.5, R = 0.5 mm, impact speed 0.1 m/s, v_c = 0.1 m/s; dt = 1e-7 s
 (about 1,700 steps per contact). Exit status 1 if a difference exceeds --tolerance.
 
-What differs by design (docs/dem.md "Hooke, materials, tangential dashpot"): LIGGGHTS caps the
+What differs by design (docs/dem.md "Hooke, materials with the linear law"): LIGGGHTS caps the
 tangential spring alone and adds the dashpot only while the contact sticks, ppohdem caps the
 total; LIGGGHTS' dashpots use v(n+1/2), ppohdem's the predicted v(n+1); LIGGGHTS projects the
 spring onto the tangent plane, ppohdem rotates it keeping its length.
