@@ -119,7 +119,8 @@ class Kernel final : public ForceKernel {
 
   Kernel(const PairLaws<Law>& laws, bool vector_contacts)
       : laws_(laws), law_(laws.pair(0, 0)),
-        x4_(kX4 && vector_contacts && x4_contacts_available() && !laws.any_rolling()) {}
+        x4_(kX4 && vector_contacts && x4_contacts_available() && !laws.any_rolling() &&
+           !laws.any_tangential_damping()) {}
 
   /// The contacts entries[contacts[k]], k < count, of a chunk (friction; `contacts` null: the
   /// entries 0 to count - 1): springs, pair results and the entries' energies and overlaps.
@@ -195,10 +196,7 @@ class Kernel final : public ForceKernel {
 
 template <class Law, bool kFriction, bool kWalls, bool kOthers, bool kEnergy>
 std::unique_ptr<ForceKernel> with_materials(const PairLaws<Law>& laws, bool vector_contacts) {
-  // The linear law has one material (pair_laws.hpp): no multi-material instance of it.
-  if constexpr (std::is_same_v<Law, HertzMindlin>) {
-    if (laws.materials() > 1) return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, true, kEnergy>>(laws, vector_contacts);
-  }
+  if (laws.materials() > 1) return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, true, kEnergy>>(laws, vector_contacts);
   return std::make_unique<Kernel<Law, kFriction, kWalls, kOthers, false, kEnergy>>(laws, vector_contacts);
 }
 
