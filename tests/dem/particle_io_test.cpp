@@ -3,7 +3,8 @@
 // - the writer's lines are the ones snprintf("%.17g") gives, for doubles of every kind;
 // - the reader gives, for every field, what std::stod decides: the same value bits, or an
 //   error (fields of every format strtod accepts, and ones it refuses or reports out of range);
-// - overlapping_pairs finds exactly the pairs an all-pairs loop finds.
+// - overlapping_pairs finds exactly the pairs an all-pairs loop finds (dense cells, hashed cells
+//   and the sweep).
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -152,10 +153,14 @@ RC_GTEST_PROP(ParticleIo, OverlappingPairsAreTheAllPairsOnes, ()) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Particles p(count);
   for (Particle& q : p) {
-    q.position = Vec3(offset + spread * unit(rng), offset + spread * unit(rng), offset + spread * 0.1 * unit(rng));
+    q.position = Vec3(offset + spread * unit(rng), offset + spread * unit(rng), offset + spread * unit(rng));
     q.radius = spread * 0.02 * std::pow(100.0, unit(rng)) / 10.0;
   }
   if (count > 1 && unit(rng) < 0.3) p[count - 1].position = p[0].position;  // coincident centres
+  // Two clusters far apart: mostly empty cells between them (the hashed cells, not the dense grid).
+  if (*rc::gen::arbitrary<bool>()) {
+    for (std::size_t k = 0; k < count / 2; ++k) p[k].position += Vec3(40.0, -40.0, 40.0) * spread;
+  }
   RC_ASSERT(overlapping_pairs(p, fraction) == all_overlapping_pairs(p, fraction));
 }
 

@@ -55,6 +55,101 @@ std::vector<std::pair<std::size_t, std::size_t>> sweep(const Particles& particle
   return found;
 }
 
+// Cells of a dense grid (a bed: at most 4 cells per particle): particles counting-sorted by
+// cell, each cell compared with itself and its 13 forward neighbours.
+std::vector<std::pair<std::size_t, std::size_t>> dense_cells(const Particles& particles, double fraction,
+                                                             const Vec3& low, double side,
+                                                             const Eigen::Array<std::int64_t, 3, 1>& span) {
+  const std::int64_t nx = span[0], ny = span[1], nz = span[2];
+  auto index_of = [&](const Vec3& x) {
+    const auto cx = std::min(nx - 1, static_cast<std::int64_t>(std::floor((x.x() - low.x()) / side)));
+    const auto cy = std::min(ny - 1, static_cast<std::int64_t>(std::floor((x.y() - low.y()) / side)));
+    const auto cz = std::min(nz - 1, static_cast<std::int64_t>(std::floor((x.z() - low.z()) / side)));
+    return static_cast<std::size_t>((cz * ny + cy) * nx + cx);
+  };
+  const auto cells = static_cast<std::size_t>(nx * ny * nz);
+  std::vector<std::uint32_t> first(cells + 1, 0);
+  std::vector<std::uint32_t> cell(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) ++first[(cell[i] = static_cast<std::uint32_t>(index_of(particles[i].position))) + 1];
+  for (std::size_t c = 0; c < cells; ++c) first[c + 1] += first[c];
+  std::vector<std::uint32_t> members(particles.size());
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::size_t i = 0; i < particles.size(); ++i) members[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> found;
+  auto test = [&](std::uint32_t i, std::uint32_t j) {
+    if (overlaps(particles[i], particles[j], fraction)) found.emplace_back(std::min(i, j), std::max(i, j));
+  };
+  for (std::int64_t cz = 0; cz < nz; ++cz) {
+    for (std::int64_t cy = 0; cy < ny; ++cy) {
+      for (std::int64_t cx = 0; cx < nx; ++cx) {
+        const auto c = static_cast<std::size_t>((cz * ny + cy) * nx + cx);
+        for (std::uint32_t a = first[c]; a < first[c + 1]; ++a) {
+          for (std::uint32_t b = a + 1; b < first[c + 1]; ++b) test(members[a], members[b]);
+        }
+        // The 13 neighbours after this cell in (z, y, x) order: each pair of cells once.
+        for (std::int64_t dz = 0; dz <= 1; ++dz) {
+          for (std::int64_t dy = (dz == 0 ? 0 : -1); dy <= 1; ++dy) {
+            for (std::int64_t dx = (dz == 0 && dy == 0 ? 1 : -1); dx <= 1; ++dx) {
+              const std::int64_t x = cx + dx, y = cy + dy, z = cz + dz;
+              if (x < 0 || x >= nx || y < 0 || y >= ny || z >= nz) continue;
+              const auto d = static_cast<std::size_t>((z * ny + y) * nx + x);
+              for (std::uint32_t a = first[c]; a < first[c + 1]; ++a) {
+                for (std::uint32_t b = first[d]; b < first[d + 1]; ++b) test(members[a], members[b]);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  return found;
+}
+
+// Cells in a hash map: sparse scenes (more than 4 cells per particle), whose dense grid would
+// be mostly empty.
+std::vector<std::pair<std::size_t, std::size_t>> hashed_cells(const Particles& particles, double fraction,
+                                                              const Vec3& low, double side) {
+  auto cell_of = [&](const Vec3& x) {
+    return Cell{static_cast<std::int64_t>(std::floor((x.x() - low.x()) / side)),
+                static_cast<std::int64_t>(std::floor((x.y() - low.y()) / side)),
+                static_cast<std::int64_t>(std::floor((x.z() - low.z()) / side))};
+  };
+  std::unordered_map<Cell, std::uint32_t, CellHash> slot;
+  slot.reserve(particles.size());
+  std::vector<std::uint32_t> cell_of_particle(particles.size());
+  std::vector<std::size_t> count;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const auto [it, inserted] = slot.try_emplace(cell_of(particles[i].position), static_cast<std::uint32_t>(count.size()));
+    if (inserted) count.push_back(0);
+    cell_of_particle[i] = it->second;
+    ++count[it->second];
+  }
+  std::vector<std::size_t> first(count.size() + 1, 0);
+  for (std::size_t c = 0; c < count.size(); ++c) first[c + 1] = first[c] + count[c];
+  std::vector<std::size_t> members(particles.size());
+  std::vector<std::size_t> fill(first.begin(), first.end() - 1);
+  for (std::size_t i = 0; i < particles.size(); ++i) members[fill[cell_of_particle[i]]++] = i;
+  std::vector<std::pair<std::size_t, std::size_t>> found;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Cell c = cell_of(particles[i].position);
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const auto it = slot.find(Cell{c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == slot.end()) continue;
+          for (std::size_t m = first[it->second]; m < first[it->second + 1]; ++m) {
+            const std::size_t j = members[m];
+            if (j > i && overlaps(particles[i], particles[j], fraction)) found.emplace_back(i, j);
+          }
+        }
+      }
+    }
+  }
+  return found;
+}
+
 }  // namespace
 
 std::vector<std::pair<std::size_t, std::size_t>> overlapping_pairs(const Particles& particles, double fraction) {
@@ -78,41 +173,11 @@ std::vector<std::pair<std::size_t, std::size_t>> overlapping_pairs(const Particl
       ((high - low) / side).maxCoeff() > 0x1p26) {
     found = sweep(particles, fraction, r_max);
   } else {
-    auto cell_of = [&](const Vec3& x) {
-      return Cell{static_cast<std::int64_t>(std::floor((x.x() - low.x()) / side)),
-                  static_cast<std::int64_t>(std::floor((x.y() - low.y()) / side)),
-                  static_cast<std::int64_t>(std::floor((x.z() - low.z()) / side))};
-    };
-    // Particles by cell: a counting sort through the map's running indices.
-    std::unordered_map<Cell, std::uint32_t, CellHash> slot;
-    slot.reserve(particles.size());
-    std::vector<std::uint32_t> cell_of_particle(particles.size());
-    std::vector<std::size_t> count;
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      const auto [it, inserted] = slot.try_emplace(cell_of(particles[i].position), static_cast<std::uint32_t>(count.size()));
-      if (inserted) count.push_back(0);
-      cell_of_particle[i] = it->second;
-      ++count[it->second];
-    }
-    std::vector<std::size_t> first(count.size() + 1, 0);
-    for (std::size_t c = 0; c < count.size(); ++c) first[c + 1] = first[c] + count[c];
-    std::vector<std::size_t> members(particles.size());
-    std::vector<std::size_t> fill(first.begin(), first.end() - 1);
-    for (std::size_t i = 0; i < particles.size(); ++i) members[fill[cell_of_particle[i]]++] = i;  // ascending i per cell
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      const Cell c = cell_of(particles[i].position);
-      for (std::int64_t dx = -1; dx <= 1; ++dx) {
-        for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          for (std::int64_t dz = -1; dz <= 1; ++dz) {
-            const auto it = slot.find(Cell{c[0] + dx, c[1] + dy, c[2] + dz});
-            if (it == slot.end()) continue;
-            for (std::size_t m = first[it->second]; m < first[it->second + 1]; ++m) {
-              const std::size_t j = members[m];
-              if (j > i && overlaps(particles[i], particles[j], fraction)) found.emplace_back(i, j);
-            }
-          }
-        }
-      }
+    const Eigen::Array3d span = ((high - low) / side).array().floor() + 1.0;
+    if (span.prod() <= 4.0 * static_cast<double>(particles.size()) + 64.0 && particles.size() < (std::size_t{1} << 30)) {
+      found = dense_cells(particles, fraction, low, side, span.cast<std::int64_t>());
+    } else {
+      found = hashed_cells(particles, fraction, low, side);
     }
   }
   std::sort(found.begin(), found.end());
