@@ -2,6 +2,9 @@
 // Meshes for the mesh-contact tests: flat rectangles split into many triangles (so that a face
 // is several coplanar triangles), a V-notch, a three-face corner, a box.
 #include <Eigen/Geometry>
+#include <array>
+#include <utility>
+#include <vector>
 
 #include "ppohdem/mesh/triangle_mesh.hpp"
 
@@ -74,6 +77,92 @@ inline TriangleMesh box(double a, int cells) {
   add_rectangle(mesh, x, y, z, cells, cells);             // x = a, +x
   add_rectangle(mesh, Vec3::Zero(), x, z, cells, cells);  // y = 0, -y
   add_rectangle(mesh, y, z, x, cells, cells);             // y = a, +y
+  return mesh;
+}
+
+}  // namespace ppohdem::dem::test
+
+namespace ppohdem::dem::test {
+
+/// A closed prism along x in [0, length]: the polygon `yz` (counter-clockwise seen from +x,
+/// the first vertex a corner every other vertex can be seen from) extruded, each side face
+/// split into `cells` rectangles along x (two triangles each), the end caps fanned from the
+/// first vertex. Every vertex is (j length / cells, y_k, z_k): shared vertices weld.
+inline TriangleMesh prism(const std::vector<Eigen::Vector2d>& yz, double length, int cells) {
+  TriangleMesh mesh;
+  const auto at = [&](std::size_t k, int j) {
+    return Vec3(j * length / cells, yz[k % yz.size()].x(), yz[k % yz.size()].y());
+  };
+  for (std::size_t k = 0; k < yz.size(); ++k) {
+    for (int j = 0; j < cells; ++j) {
+      Triangle a, b;
+      a.v = {at(k, j), at(k + 1, j), at(k + 1, j + 1)};
+      b.v = {at(k, j), at(k + 1, j + 1), at(k, j + 1)};
+      mesh.triangles.push_back(a);
+      mesh.triangles.push_back(b);
+    }
+  }
+  for (std::size_t k = 1; k + 1 < yz.size(); ++k) {
+    Triangle near, far;
+    near.v = {at(0, 0), at(k + 1, 0), at(k, 0)};          // x = 0, normal -x
+    far.v = {at(0, cells), at(k, cells), at(k + 1, cells)};  // x = length, normal +x
+    mesh.triangles.push_back(near);
+    mesh.triangles.push_back(far);
+  }
+  return mesh;
+}
+
+/// A block with a 90-degree V-notch along x cut in its top: crease on the x axis, notch faces
+/// nA = (0, -1, 1)/sqrt(2) on y > 0 and nB = (0, 1, 1)/sqrt(2) on y < 0 up to the rims at
+/// |y| = z = half_width, block bottom at z = -depth.
+inline TriangleMesh notched_block(double length, double half_width, double depth, int cells) {
+  const double w = half_width;
+  return prism({{0, 0}, {-w, w}, {-w, -depth}, {w, -depth}, {w, w}}, length, cells);
+}
+
+/// The closed surface of a union of cells of the lattice bx x by x bz (breakpoints ascending):
+/// cell (i, j, k) is solid if solid(i, j, k). Two triangles per exposed cell face, outward.
+template <class Solid>
+TriangleMesh lattice_solid(const std::array<std::vector<double>, 3>& b, Solid solid) {
+  TriangleMesh mesh;
+  const int n[3] = {static_cast<int>(b[0].size()) - 1, static_cast<int>(b[1].size()) - 1,
+                    static_cast<int>(b[2].size()) - 1};
+  const auto filled = [&](int c[3]) {
+    for (int a = 0; a < 3; ++a) {
+      if (c[a] < 0 || c[a] >= n[a]) return false;
+    }
+    return static_cast<bool>(solid(c[0], c[1], c[2]));
+  };
+  for (int i = 0; i < n[0]; ++i) {
+    for (int j = 0; j < n[1]; ++j) {
+      for (int k = 0; k < n[2]; ++k) {
+        int c[3] = {i, j, k};
+        if (!filled(c)) continue;
+        for (int a = 0; a < 3; ++a) {
+          for (int s = -1; s <= 1; s += 2) {
+            int m[3] = {i, j, k};
+            m[a] += s;
+            if (filled(m)) continue;
+            const int bb = (a + 1) % 3, cc = (a + 2) % 3;  // e_b x e_c = e_a
+            const auto corner = [&](int db, int dc) {
+              Vec3 p;
+              p[a] = b[a][c[a] + (s > 0 ? 1 : 0)];
+              p[bb] = b[bb][c[bb] + db];
+              p[cc] = b[cc][c[cc] + dc];
+              return p;
+            };
+            std::array<Vec3, 4> q = {corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)};
+            if (s < 0) std::swap(q[1], q[3]);
+            Triangle t1, t2;
+            t1.v = {q[0], q[1], q[2]};
+            t2.v = {q[0], q[2], q[3]};
+            mesh.triangles.push_back(t1);
+            mesh.triangles.push_back(t2);
+          }
+        }
+      }
+    }
+  }
   return mesh;
 }
 

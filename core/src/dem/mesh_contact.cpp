@@ -229,17 +229,24 @@ void MeshContactGeometry::contacts(const Vec3& centre, double radius, std::vecto
         break;
       }
     }
-    const double d = std::sqrt(cand.squared_distance);
     MeshContact c;
-    if (d > 0.0) {
-      c.normal = (centre - cand.closest.point) / d;
-    } else if (cand.closest.region == TriangleRegion::kInterior) {
-      c.normal = tri.unit_normal;  // centre on the face: its normal
+    if (cand.closest.region == TriangleRegion::kInterior || feature <= face_count_) {
+      // A face (also at an edge or vertex inside a flat face): the foot of the centre on the
+      // triangle's plane. At such an edge the edge's own point would differ from the foot by
+      // the round-off of which triangle is nearer, and its direction by up to the square root
+      // of it: a sideways push on a flat face.
+      if (!in_front(cand.triangle)) continue;
+      const double height = (centre - vertices_[tri.vertex[0]]).dot(tri.unit_normal);
+      c.normal = tri.unit_normal;
+      c.overlap = radius - height;
+      c.point = centre - height * tri.unit_normal;
     } else {
-      continue;  // centre on an edge or vertex: no direction
+      const double d = std::sqrt(cand.squared_distance);
+      if (!(d > 0.0)) continue;  // centre on an edge or vertex: no direction
+      c.normal = (centre - cand.closest.point) / d;
+      c.overlap = radius - d;
+      c.point = cand.closest.point;
     }
-    c.overlap = radius - d;
-    c.point = cand.closest.point;
     c.feature = feature;
     out.push_back(c);
   }
