@@ -9,7 +9,10 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <map>
 #include <numbers>
+#include <random>
+#include <tuple>
 
 #include "../dem/dem_test_support.hpp"
 #include "mesh_shapes.hpp"
@@ -213,6 +216,98 @@ TEST(MeshObjectDynamics, EnergyIsConservedToSecondOrderWithRestitutionOne) {
     std::printf("field contact, e = 1, dt = %g s: largest energy error / (m g R) %.3e\n", dt,
                 largest_energy_error(dt, false));
   }
+}
+
+}  // namespace
+}  // namespace ppohdem::dem::test
+
+namespace ppohdem::dem::test {
+namespace {
+
+// A heap of 1,100 frictional spheres in the notch: a row in the crease touching both faces and
+// a row on each face (at their rest overlap), a lattice falling onto them. The fast engine gives
+// the reference's bits (the same contacts added in the same order: dem_fast/fast_engine_test.cpp's
+// rule), the same contact histories with their feature keys, and either restarts from the
+// other's checkpoint with the same bits.
+SimulationSetup heap_in_notch() {
+  const double r = 0.4e-3, pitch = 2.05 * r;
+  SimulationSetup s;
+  s.dt = 2e-5;
+  s.gravity = Vec3(0, 0, -kGravity);
+  s.material = peer_material(0.5, 0.5);
+  s.law = LinearSpringDashpot::from_stiffness(kStiffness, 0.5, 0.5);
+  std::mt19937_64 rng(38);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::int64_t id = 0;
+  const double gap = 0.999 * r;  // overlap 4e-7 m, about the rest overlap m g / k
+  for (double x = r; x <= 12e-3 - r; x += pitch) {
+    s.particles.push_back(sphere(id++, Vec3(x, 0, std::sqrt(2.0) * gap), Vec3::Zero(), r));
+    const double up = 3.0 * r / std::sqrt(2.0);  // 3 R up each face from the crease
+    s.particles.push_back(sphere(id++, Vec3(x, up, up) + gap * Vec3(0, -1, 1).normalized(), Vec3::Zero(), r));
+    s.particles.push_back(sphere(id++, Vec3(x, -up, up) + gap * Vec3(0, 1, 1).normalized(), Vec3::Zero(), r));
+  }
+  for (double z = 3.0e-3; id < 1100; z += pitch) {
+    for (double y = -2.4e-3; y <= 2.4e-3 && id < 1100; y += pitch) {
+      for (double x = r; x <= 12e-3 - r && id < 1100; x += pitch) {
+        s.particles.push_back(sphere(id++, Vec3(x, y, z), 0.05 * Vec3(u(rng), u(rng), u(rng)), r));
+      }
+    }
+  }
+  const Notch notch;
+  s.boundaries = {object_on_grid(notch.mesh(), notch.lo(), notch.hi(), 1e-3, Vec3::Zero(), Vec3(0.3, 0.25, 0.7), true)};
+  return s;
+}
+
+void expect_same_particles(const Particles& a, const Particles& b, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const bool same = a[i].id == b[i].id && a[i].position == b[i].position && a[i].velocity == b[i].velocity &&
+                      a[i].angular_velocity == b[i].angular_velocity && a[i].force == b[i].force &&
+                      a[i].torque == b[i].torque;
+    if (!same && differing++ == 0) ADD_FAILURE() << what << ": particle id " << a[i].id << " differs";
+  }
+  EXPECT_EQ(differing, 0u) << what;
+}
+
+std::vector<std::tuple<std::int64_t, std::int64_t>> boundary_keys(const EngineState& state) {
+  std::vector<std::tuple<std::int64_t, std::int64_t>> keys;
+  for (const auto& c : state.contacts) {
+    if (c.kind == ContactHistoryRecord::Kind::kParticleBoundary) keys.emplace_back(c.id_a, c.id_b);
+  }
+  return keys;
+}
+
+TEST(MeshObjectDynamics, FastEngineGivesTheReferenceBits) {
+  const SimulationSetup s = heap_in_notch();
+  ASSERT_EQ(s.particles.size(), 1100u);  // the fast kernels run on several threads from 1,024
+  ReferenceEngine reference(s);
+  fast::FastEngine fast(s);
+  std::size_t most_features = 0;
+  for (int block = 0; block < 3; ++block) {
+    reference.advance(40);
+    fast.advance(40);
+    const std::string when = "after " + std::to_string(reference.step_count()) + " steps";
+    expect_same_particles(reference.particles(), fast.particles(), when);
+    EXPECT_EQ(reference.contact_counts().particle_boundary, fast.contact_counts().particle_boundary) << when;
+    const EngineState a = reference.save_state();
+    EXPECT_EQ(boundary_keys(a), boundary_keys(fast.save_state())) << when;
+    std::map<std::int64_t, std::size_t> per_particle;
+    for (const auto& [particle, key] : boundary_keys(a)) most_features = std::max(most_features, ++per_particle[particle]);
+  }
+  EXPECT_GE(most_features, 2u);  // not vacuous: particles with two springs on the object
+  EXPECT_GE(reference.contact_counts().particle_boundary, 50u);  // 14 x 2 + 28 at the start
+  // Each engine restarts from the other's checkpoint and continues with the same bits.
+  ReferenceEngine reference_restarted(s);
+  fast::FastEngine fast_restarted(s);
+  reference_restarted.restore_state(fast.save_state());
+  fast_restarted.restore_state(reference.save_state());
+  reference.advance(30);
+  fast.advance(30);
+  reference_restarted.advance(30);
+  fast_restarted.advance(30);
+  expect_same_particles(reference.particles(), fast_restarted.particles(), "fast from the reference's checkpoint");
+  expect_same_particles(fast.particles(), reference_restarted.particles(), "reference from the fast checkpoint");
 }
 
 }  // namespace

@@ -48,11 +48,18 @@ inline int thread_id() {
 struct BoundaryRecord {
   std::uint32_t particle = 0;  ///< storage (cell-sorted) index
   std::uint32_t boundary = 0;  ///< index in SimulationSetup::boundaries
+  std::uint32_t feature = 0;   ///< the boundary's feature (boundary.hpp FeatureContact; 0: its only contact)
   TangentialSpring spring;     ///< friction only
   Vec3 force = Vec3::Zero();   ///< contact force on the particle [N]
   Vec3 point = Vec3::Zero();   ///< contact point [m]
   Vec3 rolling = Vec3::Zero(); ///< rolling torque on the particle (FastState::rolling) [N m]
 };
+
+/// A particle's records are in this order: by boundary, then by feature.
+inline std::uint64_t record_key(std::size_t boundary, std::uint32_t feature) {
+  return (static_cast<std::uint64_t>(boundary) << 32) | feature;
+}
+inline std::uint64_t record_key(const BoundaryRecord& r) { return record_key(r.boundary, r.feature); }
 
 /// One entry of a chunk's pair list (frictional kernels, force_kernel.cpp "Chunks"): a touching
 /// pair that the chunk's particle evaluates, or a contact that ended (its stored energy is lost).

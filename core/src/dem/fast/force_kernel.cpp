@@ -240,6 +240,7 @@ class Kernel final : public ForceKernel {
       out.newly_escaped.clear();
       out.deepest.reset();
       const auto started = std::chrono::steady_clock::now();  // for balance_split
+      [[maybe_unused]] std::vector<FeatureContact> touching_list;  // one boundary's contacts (kOthers)
       // The boundaries of particle i in boundary order, then its stores (both kinds of kernel).
       auto boundaries_and_stores = [&](std::size_t i, Vec3& force, Vec3& torque, double& elastic, double& dissipated) {
         const Vec3 xi = s.x[i];
@@ -255,41 +256,14 @@ class Kernel final : public ForceKernel {
             // of the first 32 boundaries are visited (most particles of a bed have none: no
             // loop over the boundaries, whose exits mispredicted once per particle). A record of
             // a skipped boundary (impossible then) would still end at the next one, as untouched.
-            auto visit_boundary = [&](std::size_t b) {
+            // One contact (c, feature) with boundary b; a mesh object may give several per boundary,
+            // in feature order, each with its own record (boundary.hpp FeatureContact).
+            auto book_contact = [&](std::size_t b, const BoundaryContact& c, std::uint32_t feature) {
               if constexpr (kFriction) {
-                for (; old < old_end && s.records[old].boundary < b; ++old) {
+                for (; old < old_end && record_key(s.records[old]) < record_key(b, feature); ++old) {
                   if constexpr (kEnergy) dissipated += s.records[old].spring.stored_energy();  // ended
                 }
               }
-              BoundaryContact c;
-              bool escaped = false;
-              bool touching = false;
-              if (kWalls && s.is_wall[b]) {
-                const WallData& wall = s.walls[b];
-                const double distance = PlaneWall::signed_distance(wall.point, wall.normal, xi);
-                if (distance <= 0.0) {
-                  escaped = true;
-                } else if (distance < ri) {
-                  touching = true;
-                  c = PlaneWall::touching(wall.normal, wall.velocity, xi, ri, distance);
-                }
-              } else if constexpr (kOthers) {
-                const Boundary& boundary = *s.boundaries[b];
-                if (boundary.has_escaped(xi, time)) {
-                  escaped = true;
-                } else if (const auto contact = boundary.contact(xi, ri, time)) {
-                  touching = true;
-                  c = *contact;
-                }
-              }
-              if (escaped) {
-                if (s.escaped_via[i] == 0) {
-                  s.escaped_via[i] = static_cast<std::int32_t>(b + 1);
-                  out.newly_escaped.push_back(static_cast<std::uint32_t>(i));
-                }
-                return;
-              }
-              if (!touching) return;
               ++touching_boundaries;
               if (!out.deepest || c.overlap / ri >= out.deepest->ratio) {
                 keep_deeper(out.deepest, LargestOverlap{c.overlap / ri, c.overlap, idi, static_cast<std::int64_t>(b), true});
@@ -304,9 +278,10 @@ class Kernel final : public ForceKernel {
               BoundaryRecord record;
               record.particle = static_cast<std::uint32_t>(i);
               record.boundary = static_cast<std::uint32_t>(b);
+              record.feature = feature;
               ContactForce f;
               if constexpr (kFriction) {
-                const bool continuing = old < old_end && s.records[old].boundary == b;
+                const bool continuing = old < old_end && record_key(s.records[old]) == record_key(b, feature);
                 if (continuing) record.spring = s.records[old++].spring;
                 TangentialSpring& sp = record.spring;
                 // Trapezoid surface displacement (contact_force.hpp "Moving boundaries").
@@ -338,6 +313,31 @@ class Kernel final : public ForceKernel {
               record.force = f.on_i;
               record.point = c.point;
               out.records.push_back(record);
+            };
+            auto visit_boundary = [&](std::size_t b) {
+              const auto escape = [&] {
+                if (s.escaped_via[i] == 0) {
+                  s.escaped_via[i] = static_cast<std::int32_t>(b + 1);
+                  out.newly_escaped.push_back(static_cast<std::uint32_t>(i));
+                }
+              };
+              if (kWalls && s.is_wall[b]) {
+                const WallData& wall = s.walls[b];
+                const double distance = PlaneWall::signed_distance(wall.point, wall.normal, xi);
+                if (distance <= 0.0) {
+                  escape();
+                } else if (distance < ri) {
+                  book_contact(b, PlaneWall::touching(wall.normal, wall.velocity, xi, ri, distance), 0u);
+                }
+              } else if constexpr (kOthers) {
+                const Boundary& boundary = *s.boundaries[b];
+                if (boundary.has_escaped(xi, time)) {
+                  escape();
+                } else {
+                  boundary.contacts(xi, ri, time, touching_list);
+                  for (const FeatureContact& t : touching_list) book_contact(b, t.contact, t.feature);
+                }
+              }
             };
             std::uint32_t near = s.near_boundaries[i] & near_mask;
             for (; near != 0; near &= near - 1u) visit_boundary(static_cast<std::size_t>(std::countr_zero(near)));
