@@ -515,9 +515,10 @@ class SceneParser {
     const bool has_distance = t.contains("distance");
     const bool has_mesh = t.contains("mesh");
     if (has_distance == has_mesh) fail(&t, "[[object]] needs exactly one of distance = \"phi.vtk\" or mesh = \"m.stl\"");
-    // contact = "mesh": the mesh's faces, edges and vertices (mesh_contact.hpp); "field": the
-    // seed's single trilinear contact (docs/objects.md "Exact contacts for mesh objects").
-    bool mesh_contacts = false;
+    // contact = "mesh" (default for mesh =): the mesh's faces, edges and vertices
+    // (mesh_contact.hpp); "field" (the only one for distance =): the seed's single trilinear
+    // contact (docs/objects.md "Exact contacts for mesh objects").
+    bool mesh_contacts = has_mesh;
     if (t.contains("contact")) {
       const std::string contact = require_string(t, "object", "contact");
       if (contact != "mesh" && contact != "field") {
