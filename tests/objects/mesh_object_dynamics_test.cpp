@@ -74,6 +74,7 @@ const Vec3 kOffsets[] = {Vec3(0, 0, 0), Vec3(0, 0.5, 0.5), Vec3(0.3, 0.25, 0.7),
 
 // Settles a frictionless sphere (e = 0.3) dropped off-centre into the notch for 1 s; returns the
 // final centre minus the analytic rest position and the final speed.
+template <class Engine = ReferenceEngine>
 std::pair<Vec3, double> settle_in_notch(const Vec3& offset, bool mesh_contacts, double h) {
   const Notch notch;
   // At rest each face pushes m g / sqrt(2) along its normal (45 degrees): overlap delta =
@@ -82,7 +83,7 @@ std::pair<Vec3, double> settle_in_notch(const Vec3& offset, bool mesh_contacts, 
   const Vec3 rest(0.006, 0.0, std::sqrt(2.0) * (kRadius - delta));
   SimulationSetup s = one_sphere(rest + Vec3(0, 0.2 * kRadius, 0.3 * kRadius), Vec3(0, 0, -kGravity), 0.3, 0.0, 5e-5);
   s.boundaries = {object_on_grid(notch.mesh(), notch.lo(), notch.hi(), h, Vec3::Zero(), offset, mesh_contacts)};
-  ReferenceEngine engine(s);
+  Engine engine(s);
   engine.advance(20000);  // 1 s = 300 contact durations: the transient decays by 0.3^600
   const Particle& p = engine.particles()[0];
   return {p.position - rest, p.velocity.norm()};
@@ -97,6 +98,12 @@ TEST(MeshObjectDynamics, VNotchRestsAtTheTwoContactHeightAtAnyGridOffset) {
       EXPECT_LT(error.norm(), 1e-12) << "offset " << offset.transpose() << " h " << h << " error " << error.transpose();
       EXPECT_LT(speed, 1e-12);
     }
+  }
+  // The fast engine (also bitwise equal to the reference: FastEngineGivesTheReferenceBits).
+  for (const Vec3& offset : {kOffsets[0], kOffsets[1]}) {
+    const auto [error, speed] = settle_in_notch<fast::FastEngine>(offset, true, 1e-3);
+    EXPECT_LT(error.norm(), 1e-12) << "fast engine, offset " << offset.transpose();
+    EXPECT_LT(speed, 1e-12);
   }
 }
 
