@@ -28,7 +28,7 @@
 /// contact (the object is treated as far away) and is counted (outside_grid_count()); the
 /// caller warns once (run_scene does).
 ///
-/// Display mesh (optional, pictures only; never used for contact): a TriangleMesh in the object
+/// Display mesh (optional, for pictures): a TriangleMesh in the object
 /// frame (the frame of `field.grid`); the frame writers draw it moved by pose_at(t).
 ///
 /// Contact mesh (optional, use_mesh_contacts()): contacts() then gives the exact contacts of
