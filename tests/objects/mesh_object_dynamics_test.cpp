@@ -16,6 +16,7 @@
 
 #include "../dem/dem_test_support.hpp"
 #include "mesh_shapes.hpp"
+#include "ppohdem/dem/checkpoint.hpp"
 #include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
 
@@ -304,11 +305,16 @@ TEST(MeshObjectDynamics, FastEngineGivesTheReferenceBits) {
   }
   EXPECT_GE(most_features, 2u);  // not vacuous: particles with two springs on the object
   EXPECT_GE(reference.contact_counts().particle_boundary, 50u);  // 14 x 2 + 28 at the start
-  // Each engine restarts from the other's checkpoint and continues with the same bits.
+  // Each engine restarts from the other's checkpoint, written to bytes and read back (the
+  // feature keys travel in the contact records' id_b), and continues with the same bits.
+  Checkpoint written;
+  written.engine = reference.save_state();
+  const Checkpoint read = decode_checkpoint(encode_checkpoint(written), "in memory");
+  EXPECT_EQ(boundary_keys(read.engine), boundary_keys(written.engine));
   ReferenceEngine reference_restarted(s);
   fast::FastEngine fast_restarted(s);
   reference_restarted.restore_state(fast.save_state());
-  fast_restarted.restore_state(reference.save_state());
+  fast_restarted.restore_state(read.engine);
   reference.advance(30);
   fast.advance(30);
   reference_restarted.advance(30);

@@ -166,7 +166,8 @@ void MeshContactGeometry::contacts(const Vec3& centre, double radius, std::vecto
   out.clear();
   if (!(radius > 0.0)) return;
   // 1. Candidates: triangles whose box is within R (+ the tree's round-off slack).
-  std::vector<std::uint32_t> near;
+  thread_local std::vector<std::uint32_t> near;  // scratch, reused (the engines call this per particle)
+  near.clear();
   const double reach = radius + tree_->slack();
   const double at[3] = {centre.x(), centre.y(), centre.z()};
   tree_->collect_near_box(at, at, reach * reach, near);
@@ -175,8 +176,8 @@ void MeshContactGeometry::contacts(const Vec3& centre, double radius, std::vecto
     TriangleClosest closest;
     double squared_distance;
   };
-  std::vector<Candidate> found;
-  found.reserve(near.size());
+  thread_local std::vector<Candidate> found;
+  found.clear();
   for (const std::uint32_t s : near) {
     const std::uint32_t t = tree_->triangles()[s].original_index;
     const TriangleTopology& tri = triangles_[t];
@@ -255,7 +256,8 @@ void MeshContactGeometry::contacts(const Vec3& centre, double radius, std::vecto
     return x.overlap != y.overlap ? x.overlap > y.overlap : x.feature < y.feature;
   });
   const double coincide = 1e-11 * (coordinate_scale_ + centre.cwiseAbs().maxCoeff() + radius);  // round-off of q
-  std::vector<MeshContact> kept;
+  thread_local std::vector<MeshContact> kept;
+  kept.clear();
   for (const MeshContact& c : out) {
     const bool merged = std::any_of(kept.begin(), kept.end(), [&](const MeshContact& k) {
       return k.feature == c.feature || (k.point - c.point).norm() <= coincide;
@@ -263,7 +265,7 @@ void MeshContactGeometry::contacts(const Vec3& centre, double radius, std::vecto
     if (!merged) kept.push_back(c);
   }
   std::sort(kept.begin(), kept.end(), [](const MeshContact& x, const MeshContact& y) { return x.feature < y.feature; });
-  out = std::move(kept);
+  out.assign(kept.begin(), kept.end());
 }
 
 }  // namespace ppohdem::dem
