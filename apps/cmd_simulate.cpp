@@ -14,6 +14,7 @@
 //   --restart FILE         continue from a checkpoint to the scene's (or --steps') end step
 //   --perturb-seed K       move every particle coordinate by one ulp, seeded (dem/perturb.hpp)
 //   --output-dir DIR       write the outputs to DIR instead of the scene's [output] dir
+//   --phases A,B,...       report the wall time of the steps (first, A], (A, B], ..., (last, end]
 //   --alternate-threads 1,2 [--alternate-every K]   switch the OpenMP thread count every K
 //       steps (default 500; order 1 2 2 1 1 2 ...) and report each count's particle-steps per second: a
 //       speed-up measured in one process, over the same phases of the run (the results do not
@@ -38,6 +39,7 @@
 #endif
 
 #include "commands.hpp"
+#include "phase_timing.hpp"
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/legacy_scene.hpp"
@@ -73,6 +75,7 @@ struct SimulateOptions {
   long alternate_every = 500;         // steps per block of one thread count
   std::optional<std::uint64_t> perturb_seed;  // move every coordinate by one ulp (dem/perturb.hpp)
   std::string output_dir;             // overrides the scene's [output] dir
+  std::vector<long> phases;           // step numbers ending the timed phases (phase_timing.hpp)
 };
 
 /// `--alternate-threads`: the run switches the OpenMP thread count at every K-th step boundary
@@ -218,7 +221,17 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
     throw InputError("--alternate-threads: this build has no OpenMP");
 #endif
     alternation.emplace(options.alternate_threads, options.alternate_every, scene.steps);
-    run_options.at_step_boundary = [&alternation](long done) { alternation->at_step_boundary(done); };
+  }
+  std::optional<PhaseTiming> phases;
+  if (!options.phases.empty()) {
+    const long first_step = run_options.restart ? run_options.restart->engine.step : 0;
+    phases.emplace(options.phases, first_step, scene.steps);
+  }
+  if (alternation || phases) {
+    run_options.at_step_boundary = [&alternation, &phases](long done) {
+      if (phases) phases->at_step_boundary(done);  // first: its clock excludes the thread switch
+      if (alternation) alternation->at_step_boundary(done);
+    };
   }
   const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
   std::vector<std::size_t> outside;  // samples outside each object's grid, all ranks
@@ -268,6 +281,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   std::printf("wrote %s (final.csv, energy.csv, %zu frames)\n", scene.output.dir.string().c_str(),
               s.frames);
   if (alternation) alternation->report(particle_count);
+  if (phases) phases->report(particle_count);
 }
 
 // A legacy ppohDEM input_params_update.dat starts (after blank lines) with the label
@@ -325,6 +339,10 @@ void register_simulate(CLI::App& app, const Comm& comm) {
   cmd->add_option("--perturb-seed", options->perturb_seed,
                   "move every particle coordinate by one ulp, up or down as seed K draws it (ensemble member K; "
                   "docs/port-validation.md)");
+  cmd->add_option("--phases", options->phases,
+                  "report the wall time of each phase of the run, the phases ending at these steps (e.g. "
+                  "500,2500,6000) and at the last step")
+      ->delimiter(',');
   cmd->add_option("--output-dir", options->output_dir, "write the outputs here instead of the scene's [output] dir");
   cmd->add_option("--data-length", options->data_length,
                   "legacy: length L [m] of the distance data (default: from input_constants_voxelizer.dat)");

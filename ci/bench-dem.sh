@@ -22,6 +22,11 @@
 #   (the fast engine also runs once per round with `--alternate-threads 1,2`: 1 and 2 threads
 #   taking turns every 500 steps in one process, a 2-thread speed-up free of the drift between
 #   separate runs; its own table in results.md)
+#   --phases LIST  step numbers ending the timed phases of the 10,000-step run (default
+#              "500,2500,6000": free fall, impact, dense settling, settled bed; "none" to skip).
+#              ppohdem runs with `simulate --phases`, LIGGGHTS and LAMMPS run their deck's `run` in
+#              pieces (`run N upto pre no post no`); results.md gets a table per phase (best
+#              over the rounds, against LIGGGHTS on 1 core) and phases.tsv every phase of every run
 #   --repeat K run every code K times, interleaved (all codes once, then all again, ...), and
 #              add a table of the best and median loop times and their ratios: on a shared or
 #              virtual machine single runs of one binary vary more than the differences
@@ -50,6 +55,7 @@ SIZES_ARG=""
 ENGINES_ARG=""
 REPEAT=1
 UNTRACKED=0
+PHASES_ARG="500,2500,6000"
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
@@ -60,6 +66,7 @@ while [ $# -gt 0 ]; do
     --engines) ENGINES_ARG=$2; shift ;;
     --repeat) REPEAT=$2; shift ;;
     --untracked) UNTRACKED=1 ;;
+    --phases) PHASES_ARG=$2; shift ;;
     *) echo "bench-dem: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -91,6 +98,14 @@ if ! [[ "$REPEAT" =~ ^[1-9][0-9]*$ ]]; then echo "bench-dem: --repeat needs a po
 if [ "$QUICK" -eq 1 ]; then SIZES=("10000:10000"); else SIZES=("10000:10000" "100000:300"); fi
 if [ -n "$SIZES_ARG" ]; then read -r -a SIZES <<<"$SIZES_ARG"; fi
 RESULTS="$OUT/results.tsv"
+PHASES_TSV="$OUT/phases.tsv"
+printf 'code\tN\tcores\tround\tphase\tfirst_step\tlast_step\tseconds\n' >"$PHASES_TSV"
+# The phase ends for a run of STEPS steps: the marks below STEPS, or nothing.
+phase_marks() {  # steps
+  [ "$PHASES_ARG" = none ] && return
+  local last=${PHASES_ARG##*,}
+  if [ "$1" -gt "$last" ]; then echo "$PHASES_ARG"; fi
+}
 printf 'code\tN\tcores\tsteps\tloop_s\tpsteps_per_s\tcpu_psteps_per_s\tpeak_rss_MB\tbytes_per_particle\tcrosscheck\n' >"$RESULTS"
 
 # peak RSS [kB] summed over the mem.* files of a run (one per process)
@@ -122,9 +137,20 @@ run_peer() {  # code N steps cores case_dir
     lammps|liggghts)
       local exe=lmp deck="$ROOT/validation/peers/lammps/in.bench" extra=(-nocite)
       if [ "$code" = liggghts ]; then exe=liggghts; deck="$ROOT/validation/peers/liggghts/in.bench"; extra=(); fi
+      local marks; marks=$(phase_marks "$steps")
+      if [ -n "$marks" ]; then  # the deck's one run in pieces: one "Loop time" per phase
+        sed "s|^run  *\${steps}.*|variable phase_end index ${marks//,/ } ${steps}\nlabel phase_loop\nrun \${phase_end} upto pre no post no\nnext phase_end\njump SELF phase_loop|" \
+          "$deck" >in.phases
+        deck=$dir/in.phases
+      fi
       local cmd="$TIMEV $exe -in $deck -var data $case_dir/particles.data -var steps $steps -var L $L -var out final.dump -log log.txt ${extra[*]}"
       if [ "$cores" -eq 1 ]; then sh -c "$cmd" >out.txt 2>&1; else "${MPIRUN[@]}" sh -c "$cmd" >out.txt 2>&1; fi
-      loop=$(grep -m1 -oE 'Loop time of [0-9.eE+-]+' out.txt | awk '{print $4}')
+      loop=$(grep -oE 'Loop time of [0-9.eE+-]+' out.txt | awk '{s += $4} END {if (NR) printf "%.6g", s}')
+      if [ -n "$marks" ]; then
+        grep -oE 'Loop time of [0-9.eE+-]+' out.txt | awk -v c="$code" -v n="$n" -v k="$cores" -v r="$rep" \
+          -v m="0,$marks,$steps" 'BEGIN {split(m, e, ",")} {printf "%s\t%s\t%s\t%s\t%d\t%s\t%s\t%s\n", c, n, k, r, NR, e[NR], e[NR + 1], $4}' \
+          >>"$PHASES_TSV"
+      fi
       record "$code" "$n" "$cores" "$steps" "${loop:-0}" "$dir" final.dump ;;
     yade)
       sh -c "$TIMEV yade -n -j $cores -x $ROOT/validation/peers/yade/bench.py $case_dir/particles.csv $steps $L final.csv" >out.txt 2>&1
@@ -158,7 +184,8 @@ run_ours() {  # engine N steps case_dir [untracked]
       dir="$case_dir/ppohdem-$label-$cores-$mode"
       rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
       write_our_scene "$case_dir" "$dir" "$untracked"
-      local cmd="$TIMEV $PPOHDEM simulate scene.toml --engine $engine --quiet"
+      local marks; marks=$(phase_marks "$steps")
+      local cmd="$TIMEV $PPOHDEM simulate scene.toml --engine $engine --quiet${marks:+ --phases $marks}"
       local ok=0
       if [ "$mode" = threads ]; then
         OMP_NUM_THREADS=$cores sh -c "$cmd" >out.txt 2>&1 && ok=1
@@ -175,6 +202,10 @@ run_ours() {  # engine N steps case_dir [untracked]
       fi
       if [ "$ok" -eq 1 ] && [ -n "$loop" ]; then
         record "ppohdem-$label ($mode)" "$n" "$cores" "$steps" "$loop" "$dir" "$dir/out/final.csv"
+        # "phase K: steps A-B, wall S s, ..." (simulate --phases)
+        sed -nE 's/^phase ([0-9]+): steps ([0-9]+)-([0-9]+), wall ([0-9.]+) s.*/\1 \2 \3 \4/p' out.txt |
+          awk -v c="ppohdem-$label ($mode)" -v n="$n" -v k="$cores" -v r="$rep" \
+            '{printf "%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n", c, n, k, r, $1, $2, $3, $4}' >>"$PHASES_TSV"
         [ "$cores" -eq 1 ] && one_loop=$loop
         speeds=$(grep -m1 '^threads' out.txt || true)
         if [ -n "$speeds" ]; then
@@ -328,6 +359,10 @@ done
             }
           }'
     fi
+  fi
+  if [ "$(wc -l <"$PHASES_TSV")" -gt 1 ]; then
+    echo
+    $PY "$ROOT/validation/peers/phase_table.py" "$PHASES_TSV"
   fi
   if [ "$(wc -l <"$ALTERNATING")" -gt 1 ]; then
     echo

@@ -10,9 +10,37 @@
 
 namespace ppohdem::dem {
 
+namespace {
+
+// The program of a single motion, with its checks (an InputError naming the object).
+MotionProgram single_program(const RigidMotion& motion, const std::string& name, double start, double stop) {
+  if (!motion.velocity.allFinite() || !motion.angular_velocity.allFinite() || !motion.centroid.allFinite()) {
+    throw InputError(name, 0, "object motion: expected finite velocity, angular velocity and centroid");
+  }
+  if (!std::isfinite(start) || std::isnan(stop) || stop < start) {
+    throw InputError(name, 0, "object motion: expected a finite start <= stop");
+  }
+  return MotionProgram::single(motion, start, stop);
+}
+
+}  // namespace
+
 DistanceFieldObject::DistanceFieldObject(ScalarField field, const RigidMotion& motion,
                                          std::string name, double start, double stop)
-    : field_(std::move(field)), motion_(motion), name_(std::move(name)), start_(start), stop_(stop) {
+    : field_(std::move(field)), motion_(motion), program_(single_program(motion, name, start, stop)),
+      name_(std::move(name)), start_(start), stop_(stop) {
+  check_field();
+}
+
+DistanceFieldObject::DistanceFieldObject(ScalarField field, MotionProgram program, std::string name)
+    : field_(std::move(field)), program_(std::move(program)), name_(std::move(name)),
+      start_(program_.segments().empty() ? 0.0 : program_.segments().front().start),
+      stop_(std::numeric_limits<double>::infinity()) {
+  motion_.centroid = program_.reference_point();
+  check_field();
+}
+
+void DistanceFieldObject::check_field() const {
   field_.grid.validate(name_);
   if (field_.values.size() != field_.grid.node_count()) {
     throw InputError(name_, 0, "distance field: expected " + std::to_string(field_.grid.node_count()) +
@@ -23,30 +51,14 @@ DistanceFieldObject::DistanceFieldObject(ScalarField field, const RigidMotion& m
       throw InputError(name_, 0, "distance field: value " + std::to_string(i) + " is not finite");
     }
   }
-  if (!motion_.velocity.allFinite() || !motion_.angular_velocity.allFinite() ||
-      !motion_.centroid.allFinite()) {
-    throw InputError(name_, 0, "object motion: expected finite velocity, angular velocity and centroid");
-  }
-  if (!std::isfinite(start_) || std::isnan(stop_) || stop_ < start_) {
-    throw InputError(name_, 0, "object motion: expected a finite start <= stop");
-  }
 }
 
-double DistanceFieldObject::motion_time(double time) const {
-  return std::min(std::max(time, start_), stop_) - start_;
-}
+RigidTransform DistanceFieldObject::pose_at(double time) const { return program_.pose_at(time); }
 
-RigidTransform DistanceFieldObject::pose_at(double time) const {
-  return motion_.pose_at(motion_time(time));
-}
-
-Vec3 DistanceFieldObject::centroid_at(double time) const {
-  return motion_.centroid_at(motion_time(time));
-}
+Vec3 DistanceFieldObject::centroid_at(double time) const { return program_.reference_point_at(time); }
 
 Vec3 DistanceFieldObject::point_velocity(const Vec3& x, double time) const {
-  if (time < start_ || time >= stop_) return Vec3::Zero();  // at rest outside [start, stop)
-  return motion_.point_velocity(x, motion_time(time));
+  return program_.point_velocity(x, time);  // zero while at rest
 }
 
 std::optional<BoundaryContact> DistanceFieldObject::contact(const Vec3& centre, double radius,
@@ -66,7 +78,7 @@ std::optional<BoundaryContact> DistanceFieldObject::contact(const Vec3& centre, 
   c.overlap = radius - phi;                                  // delta = R - phi [m]
   c.point = centre - phi * c.normal;                         // foot on the tangent plane [m]
   c.surface_velocity = point_velocity(c.point, time);        // v + omega x (p - c(t)) [m/s]
-  c.surface_spin = motion_.angular_velocity;                 // omega [rad/s]
+  c.surface_spin = program_.angular_velocity_at(time);       // Omega(t) [rad/s], zero at rest
   return c;
 }
 

@@ -45,7 +45,7 @@ void DistanceFieldObject::contacts(const Vec3& centre, double radius, double tim
     c.overlap = m.overlap;             // delta = R - |y - q| [m]
     c.point = centre - (radius - m.overlap) * c.normal;  // the closest point q, in the world [m]
     c.surface_velocity = point_velocity(c.point, time);
-    c.surface_spin = motion().angular_velocity;
+    c.surface_spin = program_.angular_velocity_at(time);  // Omega(t) [rad/s], zero at rest
     f.feature = m.feature;
     out.push_back(f);
   }

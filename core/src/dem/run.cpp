@@ -13,6 +13,7 @@
 #include <sstream>
 #include <vector>
 
+#include "ppohdem/dem/load_log.hpp"
 #include "ppohdem/dem/output_writers.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
 #include "ppohdem/error.hpp"
@@ -122,6 +123,17 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
                      outside_offset[o] + global_count(local) - static_cast<std::int64_t>(local));
     }
   };
+  // loads.csv: every boundary's load at its own interval, optionally averaged (load_log.hpp).
+  const bool log_loads = out.loads_every > 0;
+  std::vector<std::string> boundary_names;
+  for (const auto& b : scene.setup.boundaries) boundary_names.push_back(b->describe());
+  LoadLog load_log(out.dir / "loads.csv", header, boundary_names);
+  auto flush_logs = [&] {
+    if (!writer) return;
+    energy.flush();
+    if (!scene.objects.empty()) object_log.flush();
+    if (log_loads) load_log.flush();
+  };
   auto warn_outside = [&] {
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       const DistanceFieldObject& object = *scene.objects[o].object;
@@ -205,6 +217,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     object_log.set_rows(c.run.object_rows);
     summary.frames = static_cast<std::size_t>(c.run.frames);
     summary.initial = parse_energy_row(c.run.energy_rows.front(), source);
+    if (log_loads && writer) load_log.continue_from_disk(engine.step_count());
     if (writer) std::fprintf(stderr, "simulate: restarted at step %ld (t = %g s) from a checkpoint of %s\n",
                  engine.step_count(), engine.time(), c.build.c_str());
   } else {
@@ -219,8 +232,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
       energy.add(engine.step_count(), engine.time(), e);
       log_objects(engine.step_count());
     }
-    if (writer) energy.flush();
-    if (writer && !scene.objects.empty()) object_log.flush();
+    flush_logs();
     std::string note;
     try {
       const Checkpoint failed = make_checkpoint();  // collective: on every rank
@@ -244,6 +256,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   if (!options.restart) {
     energy.add(engine.step_count(), engine.time(), summary.initial);
     log_objects(engine.step_count());
+    if (log_loads && !out.loads_average) load_log.add(engine.step_count(), engine.time(), engine.boundary_loads());
     warn_outside();
     if (out.every > 0) write_frame(engine.step_count());
   }
@@ -256,15 +269,19 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
       energy.add(step, engine.time(), engine.energies());
       log_objects(step);
     }
+    if (log_loads) {  // engine.boundary_loads() is collective: on every rank
+      if (out.loads_average) load_log.accumulate(engine.boundary_loads());
+      if (step % out.loads_every == 0 || step == scene.steps) {
+        load_log.add(step, engine.time(), out.loads_average ? std::vector<BoundaryLoad>{} : engine.boundary_loads());
+      }
+    }
     if (out.every > 0 && step % out.every == 0) {
       write_frame(step);
-      if (writer) energy.flush();
-      if (writer && !scene.objects.empty()) object_log.flush();
+      flush_logs();
     }
     if (options.checkpoint_every > 0 && (step % options.checkpoint_every == 0 || step == scene.steps)) {
       // The logs first: every file on disk then covers at least the checkpoint's steps.
-      if (writer) energy.flush();
-      if (writer && !scene.objects.empty()) object_log.flush();
+      flush_logs();
       const Checkpoint checkpoint = make_checkpoint();  // collective: on every rank
       if (writer) write_checkpoint(out.dir / kCheckpointFile, checkpoint);
     }
@@ -291,8 +308,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   const std::size_t particle_count = engine.particles().size();  // collective: on every rank
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
-  if (writer) energy.flush();
-  if (writer && !scene.objects.empty()) object_log.flush();
+  flush_logs();
   const Particles& final_particles = engine.particles();  // collective: on every rank
   if (writer) write_particles_csv(out.dir / "final.csv", final_particles, header, material_column);
   return summary;

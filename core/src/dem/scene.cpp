@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <initializer_list>
 #include <limits>
+#include <numbers>
+#include <stdexcept>
 #include <optional>
 #include <string_view>
 
@@ -123,11 +125,17 @@ class SceneParser {
     if (const toml::node* out_node = root.get("output")) {
       const toml::table* out = out_node->as_table();
       if (!out) fail(out_node, "[output] must be a table");
-      check_keys(*out, "output", {"dir", "every", "formats", "progress"});
+      check_keys(*out, "output", {"dir", "every", "formats", "progress", "loads_every", "loads_average"});
       scene.output.dir = relative_to_scene(require_string(*out, "output", "dir"));
       scene.output.every = optional_integer(*out, "output", "every").value_or(0);
       if (scene.output.every < 0) fail(out->get("every"), "[output] every must be >= 0");
       scene.output.progress = optional_bool(*out, "output", "progress").value_or(true);
+      scene.output.loads_every = optional_integer(*out, "output", "loads_every").value_or(0);
+      if (scene.output.loads_every < 0) fail(out->get("loads_every"), "[output] loads_every must be >= 0");
+      scene.output.loads_average = optional_bool(*out, "output", "loads_average").value_or(false);
+      if (scene.output.loads_average && scene.output.loads_every == 0) {
+        fail(out->get("loads_average"), "[output] loads_average needs loads_every = N (steps) > 0");
+      }
       if (const toml::node* f = out->get("formats")) {
         const toml::array* formats = f->as_array();
         if (!formats) fail(f, "[output] formats: expected an array of strings");
@@ -509,7 +517,7 @@ class SceneParser {
   std::shared_ptr<const DistanceFieldObject> read_object(const toml::table& t, const SimulationSetup& s,
                                                          std::size_t index) const {
     check_keys(t, "object", {"name", "distance", "mesh", "cells", "margin", "velocity", "axis", "omega",
-                             "centroid", "start", "stop", "material", "contact"});
+                             "centroid", "start", "stop", "material", "motion", "contact"});
     const std::string name = t.contains("name") ? require_string(t, "object", "name")
                                                 : "object " + std::to_string(index + 1);
     const bool has_distance = t.contains("distance");
@@ -552,24 +560,117 @@ class SceneParser {
       field = sdf::fast::FastSdfBuilder().build(mesh, grid);  // exact distance (fast_sdf_builder.hpp)
       display_mesh = mesh;
     }
-    RigidMotion motion;
-    motion.velocity = optional_vec3(t, "object", "velocity").value_or(Vec3::Zero());
-    motion.centroid = optional_vec3(t, "object", "centroid")
-                          .value_or(0.5 * (field.grid.origin + field.grid.upper_corner()));
-    const double omega = optional_number(t, "object", "omega").value_or(0.0);
-    const auto axis = optional_vec3(t, "object", "axis");
-    if (omega != 0.0) {
-      if (!axis) fail(t.get("omega"), "[object] omega needs axis = [ax, ay, az]");
-      if (!(axis->norm() > 0.0)) fail(t.get("axis"), "[object] axis must not be zero");
-      motion.angular_velocity = axis->normalized() * omega;  // [rad/s]
+    const Vec3 centroid = optional_vec3(t, "object", "centroid").value_or(0.5 * (field.grid.origin + field.grid.upper_corner()));
+    std::shared_ptr<DistanceFieldObject> object;
+    if (const toml::node* program = t.get("motion")) {  // a motion program (docs/objects.md)
+      for (const char* key : {"velocity", "axis", "omega", "start", "stop"}) {
+        if (t.contains(key)) {
+          fail(t.get(key), std::string("[object] ") + key + " is a single-motion key: with [[object.motion]] segments "
+                           "give the motion in the segments");
+        }
+      }
+      object = std::make_shared<DistanceFieldObject>(std::move(field), read_motion_program(*program, centroid),
+                                                     name_ + ": " + name);
+    } else {
+      RigidMotion motion;
+      motion.velocity = optional_vec3(t, "object", "velocity").value_or(Vec3::Zero());
+      motion.centroid = centroid;
+      const double omega = optional_number(t, "object", "omega").value_or(0.0);
+      const auto axis = optional_vec3(t, "object", "axis");
+      if (omega != 0.0) {
+        if (!axis) fail(t.get("omega"), "[object] omega needs axis = [ax, ay, az]");
+        if (!(axis->norm() > 0.0)) fail(t.get("axis"), "[object] axis must not be zero");
+        motion.angular_velocity = axis->normalized() * omega;  // [rad/s]
+      }
+      const double start = optional_number(t, "object", "start").value_or(0.0);
+      const double stop = optional_number(t, "object", "stop").value_or(std::numeric_limits<double>::infinity());
+      if (stop < start) fail(t.get("stop"), "[object] stop must be >= start");
+      object = std::make_shared<DistanceFieldObject>(std::move(field), motion, name_ + ": " + name, start, stop);
     }
-    const double start = optional_number(t, "object", "start").value_or(0.0);
-    const double stop = optional_number(t, "object", "stop").value_or(std::numeric_limits<double>::infinity());
-    if (stop < start) fail(t.get("stop"), "[object] stop must be >= start");
-    auto object = std::make_shared<DistanceFieldObject>(std::move(field), motion, name_ + ": " + name, start, stop);
     if (mesh_contacts) object->use_mesh_contacts(*display_mesh);
     if (display_mesh) object->set_display_mesh(std::move(*display_mesh));
     return object;
+  }
+
+  // [[object.motion]] segments: one table per segment, in increasing start times.
+  MotionProgram read_motion_program(const toml::node& node, const Vec3& reference_point) const {
+    const toml::array* list = node.as_array();
+    if (!list || list->empty()) fail(&node, "[[object.motion]] must be a non-empty array of tables");
+    std::vector<MotionSegment> segments;
+    for (const toml::node& item : *list) {
+      const toml::table* m = item.as_table();
+      if (!m) fail(&item, "[[object.motion]] entries must be tables");
+      segments.push_back(read_motion_segment(*m));
+      if (segments.size() > 1 && !(segments.back().start > segments[segments.size() - 2].start)) {
+        fail(m->get("start"), "[object.motion] start: expected a time after the previous segment's start (" +
+                                  number_text(segments[segments.size() - 2].start) + " s)");
+      }
+    }
+    try {
+      return MotionProgram(std::move(segments), reference_point);
+    } catch (const std::invalid_argument& e) {  // the checks above should have caught it
+      fail(&node, std::string("[[object.motion]] ") + e.what());
+    }
+  }
+
+  static std::string number_text(double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.17g", v);
+    return buffer;
+  }
+
+  /// One segment: start [s], type and the type's keys (SI units; docs/objects.md).
+  MotionSegment read_motion_segment(const toml::table& m) const {
+    const char* table = "object.motion";
+    const std::string type = require_string(m, table, "type");
+    MotionSegment seg;
+    seg.start = require_number(m, table, "start");
+    // The rotation of a linear or sine part: a non-zero axis (normalised).
+    auto unit_axis = [&] {
+      const Vec3 axis = *require_vec3(m, table, "axis");
+      if (!(axis.norm() > 0.0) || !std::isfinite(axis.norm())) fail(m.get("axis"), "[object.motion] axis: expected a non-zero finite vector");
+      return Vec3(axis.normalized());
+    };
+    // w = 2 pi f from exactly one of frequency [Hz] or period [s]; phase [rad], default 0.
+    auto oscillation = [&](MotionPart& part) {
+      const bool has_f = m.contains("frequency");
+      if (has_f == m.contains("period")) fail(&m, "[object.motion] type = \"" + type + "\" needs exactly one of frequency = f [Hz] or period = T [s]");
+      const double value = require_number(m, table, has_f ? "frequency" : "period");
+      if (!(value > 0.0)) fail(m.get(has_f ? "frequency" : "period"), std::string("[object.motion] ") + (has_f ? "frequency" : "period") + ": expected a number > 0");
+      part.angular_frequency = 2.0 * std::numbers::pi * (has_f ? value : 1.0 / value);
+      if (!std::isfinite(part.angular_frequency) || !(part.angular_frequency > 0.0)) {
+        fail(m.get(has_f ? "frequency" : "period"), "[object.motion] the angular frequency 2 pi f is not a finite number > 0");
+      }
+      part.phase = optional_number(m, table, "phase").value_or(0.0);
+    };
+    if (type == "rest") {
+      check_keys(m, table, {"start", "type"});
+    } else if (type == "translate") {
+      check_keys(m, table, {"start", "type", "velocity"});
+      seg.translation = {MotionProfile::linear, *require_vec3(m, table, "velocity")};
+    } else if (type == "rotate" || type == "translate_rotate") {
+      if (type == "rotate") check_keys(m, table, {"start", "type", "axis", "omega", "point"});
+      else check_keys(m, table, {"start", "type", "velocity", "axis", "omega", "point"});
+      if (type == "translate_rotate") seg.translation = {MotionProfile::linear, *require_vec3(m, table, "velocity")};
+      const Vec3 axis = unit_axis();
+      seg.rotation = {MotionProfile::linear, axis * require_number(m, table, "omega")};  // [rad/s]
+      seg.point = optional_vec3(m, table, "point");
+    } else if (type == "vibrate_translate") {
+      check_keys(m, table, {"start", "type", "amplitude", "frequency", "period", "phase"});
+      seg.translation.profile = MotionProfile::sine;
+      seg.translation.vector = *require_vec3(m, table, "amplitude");  // [m]
+      oscillation(seg.translation);
+    } else if (type == "vibrate_rotate") {
+      check_keys(m, table, {"start", "type", "axis", "amplitude", "frequency", "period", "phase", "point"});
+      seg.rotation.profile = MotionProfile::sine;
+      seg.rotation.vector = unit_axis() * require_number(m, table, "amplitude");  // [rad]
+      oscillation(seg.rotation);
+      seg.point = optional_vec3(m, table, "point");
+    } else {
+      fail(m.get("type"), "[object.motion] type: expected \"rest\", \"translate\", \"rotate\", \"translate_rotate\", "
+                          "\"vibrate_translate\" or \"vibrate_rotate\", found \"" + type + "\"");
+    }
+    return seg;
   }
 
   fs::path file_;

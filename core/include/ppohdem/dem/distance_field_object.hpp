@@ -23,6 +23,10 @@
 ///
 /// Time limits: the object moves for t in [start, stop] and rests outside it:
 ///   tau(t) = min(max(t, start), stop) - start,  v_s = 0 outside [start, stop).
+/// The motion is a MotionProgram (motion_program.hpp): the single motion above is the program
+/// MotionProgram::single(motion, start, stop); a program of several segments (translations,
+/// rotations, vibrations, switched at given times) replaces it (P(t), v_s and the spin Omega(t)
+/// come from the program; c(t) is the program's reference point).
 ///
 /// Outside the grid: a centre whose object-frame position is outside the node box has no
 /// contact (the object is treated as far away) and is counted (outside_grid_count()); the
@@ -45,6 +49,7 @@
 
 #include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/mesh_contact.hpp"
+#include "ppohdem/geometry/motion_program.hpp"
 #include "ppohdem/geometry/rigid_motion.hpp"
 #include "ppohdem/grid/scalar_field.hpp"
 #include "ppohdem/mesh/triangle_mesh.hpp"
@@ -57,6 +62,9 @@ class DistanceFieldObject final : public Boundary {
   /// a value is not finite, the motion is not finite or stop < start.
   DistanceFieldObject(ScalarField field, const RigidMotion& motion, std::string name,
                       double start = 0.0, double stop = std::numeric_limits<double>::infinity());
+  /// An object moved by a motion program (checked by its constructor); throws InputError naming
+  /// `name` if the grid or the values are invalid.
+  DistanceFieldObject(ScalarField field, MotionProgram program, std::string name);
 
   std::optional<BoundaryContact> contact(const Vec3& centre, double radius,
                                          double time) const override;
@@ -77,10 +85,13 @@ class DistanceFieldObject final : public Boundary {
   std::size_t outside_grid_count() const { return outside_grid_.load(std::memory_order_relaxed); }
 
   const ScalarField& field() const { return field_; }
+  /// The single motion it was built with (for a program: zero velocities, centroid = the
+  /// program's reference point).
   const RigidMotion& motion() const { return motion_; }
+  const MotionProgram& program() const { return program_; }
   const std::string& name() const { return name_; }
-  double start() const { return start_; }
-  double stop() const { return stop_; }
+  double start() const { return start_; }  ///< the single motion's (a program: its first segment's)
+  double stop() const { return stop_; }    ///< the single motion's (a program: infinity)
 
   /// Attach the display mesh (object frame, m); call before the object is shared.
   void set_display_mesh(TriangleMesh mesh) { display_mesh_ = std::move(mesh); }
@@ -94,10 +105,11 @@ class DistanceFieldObject final : public Boundary {
   const MeshContactGeometry* contact_mesh() const { return contact_mesh_.get(); }
 
  private:
-  double motion_time(double time) const;  ///< tau(t) [s]
+  void check_field() const;
 
   ScalarField field_;
   RigidMotion motion_;
+  MotionProgram program_;
   std::string name_;
   double start_;
   double stop_;

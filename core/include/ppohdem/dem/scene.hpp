@@ -58,6 +58,8 @@ struct OutputSpec {
   bool vtk = false;
   bool pov = false;
   bool progress = true;
+  long loads_every = 0;        ///< loads.csv interval in steps; 0 = no loads.csv (load_log.hpp)
+  bool loads_average = false;  ///< loads.csv rows are means over the interval
 };
 
 /// A rigid object of the scene; it is also setup.boundaries[boundary_index].
