@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <type_traits>
 
-#include "ppohdem/error.hpp"
 
 namespace ppohdem::dem {
 
@@ -27,23 +26,26 @@ template <class Law>
 PairLaws<Law>::PairLaws(const SimulationSetup& setup, const Law& law)
     : n_(setup.material_count()), laws_(n_ * n_, law), boundary_material_(setup.boundary_materials),
       rolling_(setup.rolling != RollingModel::kNone) {
-  if constexpr (std::is_same_v<Law, LinearSpringDashpot>) {
-    if (n_ != 1) throw InputError(setup.source, 0, "the linear contact law takes one material only (pair_laws.hpp)");
-    if (rolling_) laws_[0].set_rolling({setup.rolling, setup.material.rolling_friction});
-  } else {
-    for (std::size_t a = 0; a < n_; ++a) {
-      for (std::size_t b = a; b < n_; ++b) {
-        Law l = law;  // (0, 0): the setup's own law
+  for (std::size_t a = 0; a < n_; ++a) {
+    for (std::size_t b = a; b < n_; ++b) {
+      Law l = law;  // (0, 0): the setup's own law
+      if constexpr (std::is_same_v<Law, LinearSpringDashpot>) {
+        if (a != 0 || b != 0) {  // the setup's stiffness rule with the pair's e and mu
+          const PairCoefficients c = pair_coefficients(setup, a, b);
+          l = law.for_pair(setup.material_at(a), setup.material_at(b), c.restitution, c.friction);
+        }
+      } else {
         if (a == b && a != 0) {
           l = Law::from_material(setup.material_at(a));
         } else if (a != b) {
           const PairCoefficients c = pair_coefficients(setup, a, b);
           l = Law::from_pair(setup.material_at(a), setup.material_at(b), c.restitution, c.friction);
         }
-        if (rolling_) l.set_rolling({setup.rolling, pair_coefficients(setup, a, b).rolling_friction});
-        laws_[a * n_ + b] = l;  // the same object both ways: symmetric bit for bit
-        laws_[b * n_ + a] = l;
+        l.set_tangential_damping(law.tangential_damping());
       }
+      if (rolling_) l.set_rolling({setup.rolling, pair_coefficients(setup, a, b).rolling_friction});
+      laws_[a * n_ + b] = l;  // the same object both ways: symmetric bit for bit
+      laws_[b * n_ + a] = l;
     }
   }
 }

@@ -51,7 +51,8 @@ class SceneParser {
     s.energy_balance = optional_bool(sim, "simulation", "energy_balance").value_or(true);
 
     const toml::table& contact = require_table(root, "contact");
-    check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio", "rolling"});
+    check_keys(contact, "contact", {"model", "stiffness", "collision_time", "tangential_stiffness_ratio", "rolling",
+                                    "characteristic_velocity", "tangential_damping"});
     const std::string model = require_string(contact, "contact", "model");
     if (contact.contains("rolling")) {
       const std::string rolling = require_string(contact, "contact", "rolling");
@@ -59,7 +60,7 @@ class SceneParser {
       else if (rolling == "epsd2") s.rolling = RollingModel::kEpsd2;
       else if (rolling != "none") fail(contact.get("rolling"), "[contact] rolling: expected \"none\", \"cdt\" or \"epsd2\", found \"" + rolling + "\"");
     }
-    read_materials(root, model == "hertz-mindlin", s);
+    read_materials(root, model == "hertz-mindlin" || model == "hooke", s);
     if (given_particles_) {
       read_given_particles(root, s);
     } else {
@@ -68,11 +69,22 @@ class SceneParser {
 
     if (model == "hertz-mindlin") {
       validate(s.material, true, name_);
-      for (const char* key : {"stiffness", "collision_time", "tangential_stiffness_ratio"}) {
-        if (contact.contains(key)) fail(contact.get(key), std::string("[contact] ") + key + " applies to model = \"linear\" only");
+      for (const char* key : {"stiffness", "collision_time", "tangential_stiffness_ratio", "characteristic_velocity"}) {
+        if (contact.contains(key)) fail(contact.get(key), std::string("[contact] ") + key + " does not apply to model = \"hertz-mindlin\"");
       }
       s.law = HertzMindlin::from_material(s.material);
+    } else if (model == "hooke") {
+      validate(s.material, true, name_);
+      for (const char* key : {"stiffness", "collision_time"}) {
+        if (contact.contains(key)) fail(contact.get(key), std::string("[contact] ") + key + " does not apply to model = \"hooke\" (its k_n comes from E, nu and characteristic_velocity)");
+      }
+      const double v_c = require_number(contact, "contact", "characteristic_velocity");
+      if (!(v_c > 0.0) || !std::isfinite(v_c)) fail(contact.get("characteristic_velocity"), "[contact] characteristic_velocity must be > 0 m/s");
+      const double ratio = optional_number(contact, "contact", "tangential_stiffness_ratio").value_or(1.0);
+      if (!(ratio >= 0.0) || !std::isfinite(ratio)) fail(contact.get("tangential_stiffness_ratio"), "[contact] tangential_stiffness_ratio must be >= 0");
+      s.law = LinearSpringDashpot::hooke(s.material.effective_young(), v_c, s.material.restitution, s.material.friction, ratio);
     } else if (model == "linear") {
+      if (contact.contains("characteristic_velocity")) fail(contact.get("characteristic_velocity"), "[contact] characteristic_velocity applies to model = \"hooke\" only");
       validate(s.material, false, name_);
       const auto k_n = optional_number(contact, "contact", "stiffness");
       const auto t_c = optional_number(contact, "contact", "collision_time");
@@ -83,7 +95,7 @@ class SceneParser {
       if (k_n) {
         s.law = LinearSpringDashpot::from_stiffness(*k_n, s.material.restitution, s.material.friction, ratio);
       } else {
-        // Reference pair: two particles of the mean radius, m* = m(R_mean)/2.
+        // Reference pair: two particles of the mean radius (of the first material), m* = m(R_mean)/2.
         double r_sum = 0.0;
         for (const Particle& p : s.particles) r_sum += p.radius;
         const double r_mean = s.particles.empty() ? 1.0 : r_sum / static_cast<double>(s.particles.size());
@@ -91,8 +103,12 @@ class SceneParser {
                                                          s.material.restitution, s.material.friction, ratio);
       }
     } else {
-      fail(contact.get("model"), "[contact] model: expected \"hertz-mindlin\" or \"linear\", found \"" + model + "\"");
+      fail(contact.get("model"), "[contact] model: expected \"hertz-mindlin\", \"linear\" or \"hooke\", found \"" + model + "\"");
     }
+    // Tangential dashpot: LIGGGHTS' default for hooke; off for the others (their scenes are
+    // unchanged bit for bit).
+    const bool damping = optional_bool(contact, "contact", "tangential_damping").value_or(model == "hooke");
+    std::visit([&](auto& law) { law.set_tangential_damping(damping); }, s.law);
 
     if (const toml::node* walls = root.get("wall")) {
       const toml::array* list = walls->as_array();
@@ -386,7 +402,7 @@ class SceneParser {
 
   /// [material] (one material; optional name, default "default") or [[material]] entries
   /// (several, each with a unique name), and [[material_pair]] entries.
-  void read_materials(const toml::table& root, bool hertz, SimulationSetup& s) const {
+  void read_materials(const toml::table& root, bool elastic, SimulationSetup& s) const {
     const toml::node* node = root.get("material");
     if (!node) throw InputError(name_, 0, "missing table [material] (or [[material]] entries with names)");
     std::vector<const toml::table*> tables;
@@ -405,10 +421,6 @@ class SceneParser {
     if (tables.size() > kMaxMaterials) {
       fail(node, "[[material]]: " + std::to_string(tables.size()) + " entries, at most " +
                      std::to_string(kMaxMaterials) + " are supported");
-    }
-    if (several && tables.size() > 1 && !hertz) {
-      fail(node, "[[material]]: several materials need [contact] model = \"hertz-mindlin\" (the linear law has "
-                 "one stiffness for every pair)");
     }
     for (const toml::table* t : tables) {
       check_keys(*t, "material", {"name", "density", "young", "poisson", "restitution", "friction", "rolling_friction"});
@@ -431,7 +443,7 @@ class SceneParser {
       m.rolling_friction = optional_number(*t, "material", "rolling_friction").value_or(0.0);
       if (tables.size() > 1) {  // name the entry and its line (one material: checked with the model)
         try {
-          validate(m, hertz, name_);
+          validate(m, elastic, name_);
         } catch (const InputError& e) {
           fail(t, "[[material]] '" + name + "': " + e.message());
         }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <unordered_set>
 
@@ -22,21 +23,19 @@ std::string seconds(double s) {
 void validate_materials(const SimulationSetup& setup) {
   const std::string& where = setup.source;
   auto fail = [&](const std::string& what) { throw InputError(where, 0, what); };
-  const bool hertz = std::holds_alternative<HertzMindlin>(setup.law);
+  // E and nu enter Hertz-Mindlin and hooke (E*), not the constant-stiffness linear law.
+  const auto* linear = std::get_if<LinearSpringDashpot>(&setup.law);
+  const bool elastic = !linear || linear->per_contact_stiffness();
   const std::size_t count = setup.material_count();
   if (count == 1) {
-    validate(setup.material, hertz, where);
+    validate(setup.material, elastic, where);
   } else {
-    if (!hertz) {
-      fail("[contact] model = \"linear\" has one stiffness for every pair: a scene with " +
-           std::to_string(count) + " materials needs model = \"hertz-mindlin\"");
-    }
     if (count > kMaxMaterials) {
       fail(std::to_string(count) + " materials; at most " + std::to_string(kMaxMaterials) + " are supported");
     }
     for (std::size_t k = 0; k < count; ++k) {
       try {
-        validate(setup.material_at(k), true, where);
+        validate(setup.material_at(k), elastic, where);
       } catch (const InputError& e) {
         fail(setup.material_label(k) + ": " + e.message());
       }
@@ -67,6 +66,41 @@ void validate_materials(const SimulationSetup& setup) {
   }
 }
 
+/// Hooke: 0.2 pi sqrt(m*/k_n) minimised over the pairs of the smallest particle of each
+/// material with each other, with itself and with a boundary (R* = R, m* = m, each boundary
+/// material). For one density and E*, k_n/m* ~ m*^{-4/5} R*^{2/5} is largest for the two
+/// smallest spheres; across materials these candidates give the stiffest contacts.
+TimeStepLimit hooke_time_step_limit(const SimulationSetup& setup, const LinearSpringDashpot& law) {
+  const std::size_t count = setup.material_count();
+  std::vector<double> r_min(count, std::numeric_limits<double>::infinity());
+  for (const Particle& p : setup.particles) {
+    const std::size_t k = p.material < count ? p.material : 0;
+    r_min[k] = std::min(r_min[k], p.radius);
+  }
+  double half_period = std::numeric_limits<double>::infinity();
+  auto consider = [&](std::size_t a, std::size_t b, const PairProperties& pair) {
+    const LinearSpringDashpot l = law.for_pair(setup.material_at(a), setup.material_at(b), 1.0, 0.0);
+    half_period = std::min(half_period, units::kPi * std::sqrt(pair.m_eff / l.stiffness(pair)));
+  };
+  for (std::size_t a = 0; a < count; ++a) {
+    if (!std::isfinite(r_min[a])) continue;
+    const double m_a = setup.material_at(a).mass(r_min[a]);
+    for (std::size_t b = a; b < count; ++b) {
+      if (!std::isfinite(r_min[b])) continue;
+      const double m_b = setup.material_at(b).mass(r_min[b]);
+      consider(a, b, {harmonic_pair(m_a, m_b), harmonic_pair(r_min[a], r_min[b])});
+    }
+    if (!setup.boundaries.empty()) {
+      consider(a, a, {m_a, r_min[a]});
+      for (const std::int32_t w : setup.boundary_materials) {
+        if (w >= 0 && static_cast<std::size_t>(w) < count) consider(a, static_cast<std::size_t>(w), {m_a, r_min[a]});
+      }
+    }
+  }
+  return {0.2 * half_period, "0.2 * pi sqrt(m*/k_n) = 0.2 * " + seconds(half_period) +
+                                 " (hooke: undamped half period of the stiffest contact)"};
+}
+
 }  // namespace
 
 double rayleigh_time(double radius, const Material& material) {
@@ -89,7 +123,9 @@ TimeStepLimit time_step_limit(const SimulationSetup& setup) {
   const auto material_of = [&](const Particle& p) -> const Material& {
     return setup.material_at(p.material < setup.material_count() ? p.material : 0);
   };
-  if (const auto* linear = std::get_if<LinearSpringDashpot>(&setup.law)) {
+  const auto* linear = std::get_if<LinearSpringDashpot>(&setup.law);
+  if (linear && linear->per_contact_stiffness()) return hooke_time_step_limit(setup, *linear);
+  if (linear) {
     double m_min = std::numeric_limits<double>::infinity();
     for (const Particle& p : setup.particles) m_min = std::min(m_min, material_of(p).mass(p.radius));
     const double m_eff = m_min / 2.0;  // lightest pair, m* = m/2

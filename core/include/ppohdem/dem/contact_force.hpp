@@ -23,7 +23,8 @@
 ///      (keeps the stored energy when the contact plane turns; as LIGGGHTS)
 ///   2. trial: xi_tr = xi~ + ds_t,  k' = k_t(delta) (Mindlin: k_t changes with the overlap)
 ///   3. F_t = -k' xi_tr; if |F_t| > mu max(F_n, 0): xi' = c xi_tr with c = mu F_n/(k'|xi_tr|)
-///      (Coulomb slip), else xi' = xi_tr.
+///      (Coulomb slip), else xi' = xi_tr. With the tangential dashpot the cap applies to
+///      -k' xi_tr - gamma_t v_t instead (tangential_dashpot below).
 /// Energy book-keeping per contact and step. Velocity Verlet changes the kinetic energy by
 /// the TRAPEZOID rule of the contact forces along the step's displacement (docs/dem.md):
 ///   dKE = (F(n) + F(n+1))/2 . (x(n+1) - x(n)) + (dt^2/8) m (|a(n+1)|^2 - |a(n)|^2)
@@ -199,6 +200,36 @@ ContactForce normal_contact_force(const Law& law, const ContactKinematics& c, do
   return out;
 }
 
+/// The tangential dashpot (contact_law.hpp, `tangential_damping`) and the Coulomb cap, given
+/// the trial spring state xi = xi_tr and f_t = -k' xi_tr:
+///   F_t = -k' xi_tr - gamma_t v_t,  v_t = v_rel - (v_rel . n) n  (at the evaluation time)
+///   sticking  |F_t| <= mu F_n: xi' = xi_tr; the dashpot dissipates gamma_t |v_t|^2 dt, booked
+///             like the normal dashpot (with the predicted velocity) and, as that one, part of
+///             ContactForce::dashpot;
+///   sliding   F_t scaled to |F_t| = mu F_n and carried by the spring alone, xi' = -F_t / k'
+///             (LIGGGHTS resets the spring the same way), no dashpot force; the spring's D_k
+///             and D_slip (frictional_contact_force) book the energy, an identity for any xi'.
+/// LIGGGHTS instead caps the spring force alone and adds the dashpot only while it sticks, so
+/// its sticking |F_t| can exceed mu F_n by up to gamma_t |v_t|; here Coulomb's law holds
+/// always (docs/dem.md "Tangential dashpot"). Odd in (n, v_rel, xi): the mirror is exact.
+template <class Law>
+void tangential_dashpot(const Law& law, const ContactKinematics& c, double k_t, double cap, double dt,
+                        Vec3& xi, Vec3& f_t, ContactForce& out) {
+  const Vec3& n = c.normal;
+  const Vec3 v_t = c.relative_velocity - c.relative_velocity.dot(n) * n;  // [m/s]
+  const Vec3 f_d = -law.tangential_damping_coefficient(c.overlap, c.pair) * v_t;  // [N]
+  const Vec3 total = f_t + f_d;
+  const double total_norm = total.norm();
+  if (total_norm > cap) {
+    f_t = (cap / total_norm) * total;
+    xi = k_t > 0.0 ? Vec3(f_t / -k_t) : Vec3(Vec3::Zero());
+  } else {
+    f_t = total;
+    out.dashpot += f_d;
+    out.dissipated -= f_d.dot(v_t) * dt;  // gamma_t |v_t|^2 dt >= 0 [J]
+  }
+}
+
 /// Frictional contact: normal force plus the tangential spring `spring` (updated in place).
 template <class Law>
 ContactForce frictional_contact_force(const Law& law, const ContactKinematics& c,
@@ -228,11 +259,15 @@ ContactForce frictional_contact_force(const Law& law, const ContactKinematics& c
   // linear law near separation: then the cap is 0).
   Vec3 f_t = -k_t * xi;
   const double cap = law.friction() * (f_n > 0.0 ? f_n : 0.0);
-  const double f_t_norm = f_t.norm();
-  if (f_t_norm > cap) {
-    const double scale = cap / f_t_norm;  // c in [0, 1)
-    f_t *= scale;
-    xi *= scale;
+  if (law.tangential_damping()) {  // a runtime test: scenes without it pay one branch
+    tangential_dashpot(law, c, k_t, cap, dt, xi, f_t, out);
+  } else {
+    const double f_t_norm = f_t.norm();
+    if (f_t_norm > cap) {
+      const double scale = cap / f_t_norm;  // c in [0, 1)
+      f_t *= scale;
+      xi *= scale;
+    }
   }
   // Energy the trapezoid-rule work puts into the spring but it does not store [J]:
   // D_k = -(k' - k) xi~.xi_tr / 2 and D_slip = k' (xi_tr - xi').(xi~ + xi') / 2.

@@ -1,6 +1,6 @@
 #pragma once
 /// \file contact_law.hpp
-/// The two contact laws of ppohdem, in "observable" form (MercuryDPM habit): users give
+/// The contact laws of ppohdem (linear, hooke, Hertz-Mindlin), in "observable" form (MercuryDPM habit): users give
 /// restitution and a collision time or stiffness (linear) or the elastic constants (Hertz),
 /// and the laws derive springs and dashpots once. Both laws offer the same member functions,
 /// so force kernels are templates over the law (contact_force.hpp).
@@ -21,6 +21,22 @@
 ///   Tangential spring k_t = ratio * k_n (default 2/7: the tangential and normal oscillation
 ///   periods of a sphere then agree, Schaefer, Dippel & Wolf 1996), with history and the
 ///   Coulomb cap |F_t| <= mu |F_n|.
+///
+/// HOOKE (LIGGGHTS `model hooke`, its documentation "gran model hooke"): the same linear
+/// spring-dashpot with k_n per contact, the secant stiffness of a Hertz contact at the
+/// overlap that an elastic impact at the characteristic velocity v_c reaches (the linear
+/// spring stores the Hertz energy (8/15) E* sqrt(R*) delta^{5/2} there):
+///   k_n = (16/15) sqrt(R*) E* (15 m* v_c^2 / (16 sqrt(R*) E*))^{1/5}      [N/m]
+///   gamma_n as above with this k_n (LIGGGHTS: sqrt(4 m* k_n / (1 + (pi / ln e)^2)), equal),
+///   k_t = ratio * k_n with ratio 1 by default (LIGGGHTS' kt = kn; ktToKnUser: 2/7).
+///   Against a wall or object R* = R and m* = m, so k_n is 2^{3/5} = 1.516 times that of a
+///   pair of two equal spheres. No clamp at F_n >= 0 (LIGGGHTS' default, limitForce off).
+///
+/// TANGENTIAL DASHPOT (`tangential_damping`; LIGGGHTS' default for hooke, Cundall & Strack
+/// 1979): F_t = -k_t xi - gamma_t v_t with gamma_t = gamma_n of the contact (LIGGGHTS'
+/// gammat = gamman; Hertz: the Tsuji coefficient eta delta^{1/4}) [kg/s] and v_t the
+/// tangential relative velocity at the contact point [m/s]; Coulomb caps the TOTAL force
+/// (contact_force.hpp).
 ///
 /// HERTZ-MINDLIN (Hertz 1882; Mindlin 1949 no-slip; Johnson 1985 ch. 4 and 7):
 ///   F_n = K delta^{3/2} + eta delta^{1/4} delta_dot,   K = (4/3) E* sqrt(R*)   [N]
@@ -44,7 +60,7 @@
 
 namespace ppohdem::dem {
 
-enum class ContactModel { kLinear, kHertzMindlin };
+enum class ContactModel { kLinear, kHertzMindlin };  // (hooke: LinearSpringDashpot::hooke)
 
 /// Effective inertia and curvature of one contact (material.hpp).
 struct PairProperties {
@@ -61,33 +77,78 @@ class LinearSpringDashpot {
   static LinearSpringDashpot from_collision_time(double t_c, double m_ref, double restitution,
                                                  double friction,
                                                  double tangential_ratio = 2.0 / 7.0);
+  /// LIGGGHTS' hooke: k_n per contact from E* [Pa] and the characteristic velocity v_c [m/s]
+  /// (header comment); k_t = tangential_ratio * k_n.
+  static LinearSpringDashpot hooke(double e_star, double characteristic_velocity, double restitution,
+                                   double friction, double tangential_ratio = 1.0);
+  /// The law of materials a and b (pair_laws.hpp): this law's stiffness rule (its constant
+  /// k_n, or hooke with E* of a and b), tangential ratio and dashpot switch, with the pair's e
+  /// and mu.
+  LinearSpringDashpot for_pair(const Material& a, const Material& b, double restitution,
+                               double friction) const;
 
-  double normal_stiffness() const { return k_n_; }  ///< k_n [N/m]
+  /// k_n per contact (hooke) rather than one constant k_n.
+  bool per_contact_stiffness() const { return hooke_e_star_ > 0.0; }
+  double normal_stiffness() const { return k_n_; }  ///< the constant k_n [N/m]; 0 for hooke
+  double characteristic_velocity() const { return hooke_velocity_; }  ///< v_c [m/s] (hooke)
+  double effective_young() const { return hooke_e_star_; }  ///< E* [Pa] (hooke; else 0)
   double restitution() const { return e_; }
   double friction() const { return mu_; }
-  /// gamma_n [kg/s] giving restitution e for a pair of effective mass m*.
+  /// k_n of a contact [N/m]: the constant, or hooke's formula.
+  double stiffness(const PairProperties& pair) const {
+    return per_contact_stiffness() ? hooke_stiffness(pair) : k_n_;
+  }
+  /// gamma_n [kg/s] giving restitution e for a pair of effective mass m* (constant k_n).
   double damping_coefficient(double m_eff) const;
-  /// t_c = pi / omega_d [s].
+  /// gamma_n [kg/s] of a contact (either stiffness rule).
+  double damping_coefficient(const PairProperties& pair) const {
+    return 2.0 * std::sqrt(pair.m_eff * stiffness(pair)) * log_factor_;
+  }
+  /// t_c = pi / omega_d [s] (constant k_n).
   double collision_time(double m_eff) const;
+  /// t_c = pi / omega_d [s] of a contact (either stiffness rule).
+  double collision_time(const PairProperties& pair) const;
 
-  double elastic_force(double delta, const PairProperties&) const { return k_n_ * delta; }
+  double elastic_force(double delta, const PairProperties& pair) const { return stiffness(pair) * delta; }
   double normal_force(double delta, double delta_dot, const PairProperties& pair) const {
-    return k_n_ * delta + damping_coefficient(pair.m_eff) * delta_dot;
+    if (!per_contact_stiffness()) return k_n_ * delta + damping_coefficient(pair.m_eff) * delta_dot;
+    const double k = hooke_stiffness(pair);
+    return k * delta + 2.0 * std::sqrt(pair.m_eff * k) * log_factor_ * delta_dot;
   }
-  double elastic_energy(double delta, const PairProperties&) const {
-    return 0.5 * k_n_ * delta * delta;  // U_n = k_n delta^2 / 2 [J]
+  double elastic_energy(double delta, const PairProperties& pair) const {
+    return 0.5 * stiffness(pair) * delta * delta;  // U_n = k_n delta^2 / 2 [J]
   }
-  double tangential_stiffness(double, const PairProperties&) const { return k_t_; }
+  double tangential_stiffness(double, const PairProperties& pair) const {
+    return per_contact_stiffness() ? k_t_ratio_ * hooke_stiffness(pair) : k_t_;
+  }
+  /// Tangential dashpot on (contact_force.hpp), and its gamma_t = gamma_n [kg/s].
+  bool tangential_damping() const { return tangential_damping_; }
+  void set_tangential_damping(bool on) { tangential_damping_ = on; }
+  double tangential_damping_coefficient(double, const PairProperties& pair) const {
+    return damping_coefficient(pair);
+  }
   /// Rolling resistance of the pair (rolling_resistance.hpp); none unless set.
   const RollingParameters& rolling() const { return rolling_; }
   void set_rolling(const RollingParameters& rolling) { rolling_ = rolling; }
 
  private:
-  double k_n_ = 0.0;  ///< [N/m]
-  double k_t_ = 0.0;  ///< [N/m]
+  /// (16/15) sqrt(R*) E* (15 m* v_c^2 / (16 sqrt(R*) E*))^{1/5} [N/m]
+  double hooke_stiffness(const PairProperties& pair) const {
+    const double sqrt_r = std::sqrt(pair.r_eff);
+    return 16.0 / 15.0 * sqrt_r * hooke_e_star_ *
+           std::pow(15.0 * pair.m_eff * hooke_velocity_sq_ / (16.0 * sqrt_r * hooke_e_star_), 0.2);
+  }
+
+  double k_n_ = 0.0;  ///< [N/m]; 0 for hooke
+  double k_t_ = 0.0;  ///< [N/m]; 0 for hooke
+  double k_t_ratio_ = 2.0 / 7.0;  ///< k_t / k_n [-]
   double e_ = 1.0;
   double mu_ = 0.0;
   double log_factor_ = 0.0;  ///< -ln e / sqrt(pi^2 + ln^2 e) [-]
+  double hooke_e_star_ = 0.0;  ///< E* [Pa]; > 0 selects hooke
+  double hooke_velocity_ = 0.0;  ///< v_c [m/s]
+  double hooke_velocity_sq_ = 0.0;  ///< v_c^2 [m^2/s^2]
+  bool tangential_damping_ = false;
   RollingParameters rolling_;
 };
 
@@ -126,6 +187,13 @@ class HertzMindlin {
   double tangential_stiffness(double delta, const PairProperties& pair) const {
     return 8.0 * g_star_ * std::sqrt(pair.r_eff * delta);
   }
+  /// Tangential dashpot on (contact_force.hpp), and its gamma_t [kg/s]: the normal dashpot's
+  /// coefficient eta delta^{1/4} at this overlap (gamma_t = gamma_n, as LIGGGHTS' hooke).
+  bool tangential_damping() const { return tangential_damping_; }
+  void set_tangential_damping(bool on) { tangential_damping_ = on; }
+  double tangential_damping_coefficient(double delta, const PairProperties& pair) const {
+    return alpha_ * std::sqrt(pair.m_eff * hertz_constant(pair)) * std::sqrt(std::sqrt(delta));
+  }
   /// Rolling resistance of the pair (rolling_resistance.hpp); none unless set.
   const RollingParameters& rolling() const { return rolling_; }
   void set_rolling(const RollingParameters& rolling) { rolling_ = rolling; }
@@ -136,6 +204,7 @@ class HertzMindlin {
   double e_ = 1.0;
   double mu_ = 0.0;
   double alpha_ = 0.0;
+  bool tangential_damping_ = false;
   RollingParameters rolling_;
 };
 

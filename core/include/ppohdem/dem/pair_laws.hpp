@@ -21,8 +21,11 @@
 /// giving every pair explicitly.
 /// Boundaries: a boundary with a material (SimulationSetup::boundary_materials) uses the law
 /// (particle's material, boundary's material); without one, the particle's own (a, a).
-/// The linear law has one stiffness for all pairs: a multi-material linear scene is refused
-/// (validate_setup).
+/// The linear law (constant k_n): that k_n and k_t for every pair (a linear contact has no
+/// material stiffness; [contact] stiffness or collision_time), e_ab and mu_ab as above, so
+/// gamma_n per pair from e_ab. Hooke (LinearSpringDashpot::hooke): E*_ab as for Hertz, so the
+/// stiffness follows the materials, e_ab and mu_ab as above. Every pair has the setup law's
+/// tangential ratio and tangential-dashpot switch.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -43,7 +46,6 @@ template <class Law>
 class PairLaws {
  public:
   /// The table of `setup` whose (0, 0) law is `law` (the alternative held by setup.law).
-  /// Throws InputError for a linear law with several materials.
   PairLaws(const SimulationSetup& setup, const Law& law);
 
   std::size_t materials() const { return n_; }
@@ -57,6 +59,8 @@ class PairLaws {
   /// Some pair has mu > 0 or rolling resistance: the kernels then keep histories.
   bool any_friction() const;
   bool any_rolling() const { return rolling_; }  ///< [contact] rolling is not "none"
+  /// [contact] tangential_damping (the same for every pair).
+  bool any_tangential_damping() const { return laws_[0].tangential_damping(); }
 
  private:
   std::size_t n_ = 1;

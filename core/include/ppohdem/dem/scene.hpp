@@ -8,14 +8,17 @@
 ///                contact terms of energy.csv are nan and the energy check is off)
 ///   [material]   density [kg/m^3], young [Pa], poisson, restitution, friction, name
 ///                (optional, default "default"): the scene's one material; OR
-///   [[material]] several materials (Hertz-Mindlin only), each with the keys above and a
+///   [[material]] several materials (any model), each with the keys above and a
 ///                unique name (required; no ',' or '"'); the first is material 0. The two
 ///                forms cannot be mixed (TOML refuses it). Pair laws: pair_laws.hpp.
 ///   [[material_pair]] materials = ["a", "b"] (two different names), restitution and/or
 ///                friction of that pair (otherwise min of the two materials' values)
-///   [contact]    model = "hertz-mindlin" | "linear";
+///   [contact]    model = "hertz-mindlin" | "linear" | "hooke";
 ///                linear only: stiffness [N/m] or collision_time [s] (for two particles of
-///                the mean radius), tangential_stiffness_ratio (default 2/7)
+///                the mean radius), tangential_stiffness_ratio (default 2/7);
+///                hooke only: characteristic_velocity [m/s] (required),
+///                tangential_stiffness_ratio (default 1); tangential_damping = true | false
+///                (default true for hooke, false otherwise; contact_law.hpp)
 ///   [particles]  file = "p.csv" (relative to the scene file), or
 ///                generator = "lattice" | "random", box_min, box_max [m], count, radius [m],
 ///                radius_max [m] (optional), seed, velocity [m/s] (optional), jitter (lattice),

@@ -9,8 +9,8 @@
 //   step.cpp                one time step: kicks, drift, list builds, force evaluation
 //   fast_checkpoint.cpp     save_state / restore_state
 //   fast_engine.cpp         the DemEngine interface
-// The force kernel is force_kernel.cpp (with hertz_mindlin_x4.cpp), the per-particle arrays
-// fast_state.hpp. Shared by those files only: not installed.
+// The force kernel is force_kernel.cpp, its passes force_pairs.hpp, force_boundaries.hpp and
+// force_sums.hpp (with hertz_mindlin_x4.cpp), the per-particle arrays fast_state.hpp. Shared by those files only: not installed.
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include <algorithm>
 #include <array>

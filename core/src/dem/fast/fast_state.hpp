@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/contact_force.hpp"
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
@@ -61,7 +62,7 @@ inline std::uint64_t record_key(std::size_t boundary, std::uint32_t feature) {
 }
 inline std::uint64_t record_key(const BoundaryRecord& r) { return record_key(r.boundary, r.feature); }
 
-/// One entry of a chunk's pair list (frictional kernels, force_kernel.cpp "Chunks"): a touching
+/// One entry of a chunk's pair list (frictional kernels, force_pairs.hpp): a touching
 /// pair that the chunk's particle evaluates, or a contact that ended (its stored energy is lost).
 /// Entries are in the order in which the particle books them (its slot order).
 struct PairEntry {
@@ -97,6 +98,7 @@ struct alignas(64) ThreadOutput {
   /// does not grow its pools (friction only; emptied by lay_out_springs).
   std::vector<std::uint32_t> free_springs;
   PairBatch batch;  ///< the current chunk's pairs (frictional kernels; reused storage)
+  std::vector<FeatureContact> touching;  ///< one boundary's contacts (force_boundaries.hpp; reused)
 };
 
 /// Deterministic choice of the deeper contact: larger ratio, ties to the smaller
@@ -243,7 +245,7 @@ struct FastState {
   ThreadSpeeds thread_speeds;  ///< the intervals of range_share and range_seconds (a diagnostic)
   /// The frictional kernels' second (sum) pass has its own ranges: range r sums the particles
   /// whose neighbour slots begin in the r-th part of the slots, the parts' shares corrected by
-  /// the pass's measured times every kSumRecut evaluations (force_kernel.cpp). It reads only
+  /// the pass's measured times every kSumRecut evaluations (force_sums.hpp). It reads only
   /// finished results, so its cut may move at any evaluation. Only the speed depends on them.
   std::vector<double> sum_share;
   std::vector<double> sum_seconds;
@@ -277,7 +279,7 @@ struct FastState {
 
 /// The contact geometry of touching particles i and j (storage indices) with d = x_i - x_j:
 /// the reference's expressions (reference/src/dem/force_passes.hpp), so the same bits. The
-/// force kernel evaluates every pair with it (force_kernel.cpp; hertz_mindlin_x4.cpp lane by
+/// force kernel evaluates every pair with it (force_pairs.hpp; hertz_mindlin_x4.cpp lane by
 /// lane), and save_state writes a pair history's branch vectors with it (fast_engine.cpp).
 using PairGeometry = SpherePairGeometry;
 inline PairGeometry pair_geometry(const FastState& s, std::size_t i, std::size_t j, const Vec3& d) {
