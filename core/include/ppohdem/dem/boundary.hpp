@@ -3,7 +3,7 @@
 /// Rigid boundaries that particles touch: planar walls now, rigid objects given by distance
 /// fields later. A boundary is a body of infinite mass whose motion is prescribed as a
 /// function of time, so it is immutable and evaluated at a time t [s] (no per-step state).
-/// Engines keep one contact history per (particle id, boundary index) and use the same
+/// Engines keep one contact history per (particle id, boundary index, feature) and use the same
 /// contact laws as for particle pairs, with j = the boundary: R* = R_i, m* = m_i, and the
 /// boundary's velocity at the contact point in v_rel (contact_force.hpp).
 #include <cstdint>

@@ -45,7 +45,7 @@ inline int thread_id() {
 #endif
 }
 
-/// One particle-boundary contact of the last evaluation (sorted by (particle, boundary)).
+/// One particle-boundary contact of the last evaluation (sorted by (particle, boundary, feature)).
 struct BoundaryRecord {
   std::uint32_t particle = 0;  ///< storage (cell-sorted) index
   std::uint32_t boundary = 0;  ///< index in SimulationSetup::boundaries
@@ -226,7 +226,7 @@ struct FastState {
   const PairResult& result_at(std::uint32_t code) const {
     return result_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
   }
-  // --- boundary contacts of the last evaluation, sorted by (particle, boundary) ---
+  // --- boundary contacts of the last evaluation, sorted by (particle, boundary, feature) ---
   std::vector<BoundaryRecord> records;
   std::vector<std::uint32_t> record_first;  ///< n + 1 offsets into records
   std::vector<BoundaryRecord> next_records;        ///< the kernel's output buffers (swapped in)
