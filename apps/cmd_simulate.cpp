@@ -146,7 +146,12 @@ const std::map<std::string, dem::EngineFactory>& engines() {
   return table;
 }
 
-void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
+/// Wall time of reading the scene and its particle file [s] (run_input).
+struct ReadTiming {
+  double seconds = 0.0;
+};
+
+void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming read = {}) {
   if (options.steps) scene.steps = *options.steps;
   if (options.time_finish) {
     if (!(*options.time_finish >= 0.0)) throw InputError("--time-finish: expected a time >= 0 s");
@@ -173,6 +178,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   }
   if (!root) scene.output.progress = false;
   const dem::TimeStepLimit limit = dem::time_step_limit(scene.setup);
+  const auto setup_start = std::chrono::steady_clock::now();
   std::unique_ptr<dem::DemEngine> engine;  // validates (dt, overlaps, ...)
   if (ranks > 1) {
     dem::fast::FastOptions fast_options;
@@ -184,6 +190,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   // The engine holds the particles now; the scene's copy is not read again (run_scene uses
   // the materials, boundaries and outputs): free it (about 140 bytes per particle).
   dem::Particles().swap(scene.setup.particles);
+  const double setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
   std::string header = provenance_line(ranks) + "; engine " + engine->name();
   if (options.perturb_seed) header += "; perturb-seed " + std::to_string(*options.perturb_seed);
   const std::size_t particle_count = engine->particles().size();  // collective: on every rank
@@ -280,6 +287,11 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene) {
   }
   std::printf("wrote %s (final.csv, energy.csv, %zu frames)\n", scene.output.dir.string().c_str(),
               s.frames);
+  // Where a large run's time goes besides the steps (docs/performance.md "A million particles").
+  std::printf("timing: read %.3f s, setup %.3f s, steps %.3f s, gather %.3f s, write %.3f s (%.1f MB, %.0f MB/s)\n",
+              read.seconds, setup_seconds, s.wall_seconds, s.gather_seconds, s.write_seconds,
+              static_cast<double>(s.write_bytes) / 1e6,
+              s.write_seconds > 0.0 ? static_cast<double>(s.write_bytes) / 1e6 / s.write_seconds : 0.0);
   if (alternation) alternation->report(particle_count);
   if (phases) phases->report(particle_count);
 }
@@ -311,7 +323,10 @@ void run_input(const SimulateOptions& options) {
     return;
   }
   if (options.data_length) throw InputError("--data-length applies to legacy inputs only");
-  run_scene_file(options, dem::read_scene(options.input));
+  const auto read_start = std::chrono::steady_clock::now();
+  dem::Scene scene = dem::read_scene(options.input);
+  const ReadTiming read{std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count()};
+  run_scene_file(options, std::move(scene), read);
 }
 
 }  // namespace

@@ -309,8 +309,15 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
   flush_logs();
+  const auto gather_start = clock::now();
   const Particles& final_particles = engine.particles();  // collective: on every rank
-  if (writer) write_particles_csv(out.dir / "final.csv", final_particles, header, material_column);
+  const auto write_start = clock::now();
+  summary.gather_seconds = std::chrono::duration<double>(write_start - gather_start).count();
+  if (writer) {
+    write_particles_csv(out.dir / "final.csv", final_particles, header, material_column);
+    summary.write_seconds = std::chrono::duration<double>(clock::now() - write_start).count();
+    summary.write_bytes = std::filesystem::file_size(out.dir / "final.csv");
+  }
   return summary;
 }
 

@@ -140,31 +140,6 @@ TimeStepLimit time_step_limit(const SimulationSetup& setup) {
                                                      : " of the smallest particle")};
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> overlapping_pairs(const Particles& particles,
-                                                                   double fraction) {
-  std::vector<std::size_t> order(particles.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return particles[a].position.x() < particles[b].position.x();
-  });
-  double r_max = 0.0;
-  for (const Particle& p : particles) r_max = std::max(r_max, p.radius);
-  std::vector<std::pair<std::size_t, std::size_t>> found;
-  for (std::size_t a = 0; a < order.size(); ++a) {
-    const Particle& pi = particles[order[a]];
-    for (std::size_t b = a + 1; b < order.size(); ++b) {
-      const Particle& pj = particles[order[b]];
-      if (pj.position.x() - pi.position.x() > pi.radius + r_max) break;
-      const double overlap = pi.radius + pj.radius - (pi.position - pj.position).norm();
-      if (overlap > fraction * std::min(pi.radius, pj.radius)) {
-        found.emplace_back(std::min(order[a], order[b]), std::max(order[a], order[b]));
-      }
-    }
-  }
-  std::sort(found.begin(), found.end());
-  return found;
-}
-
 void validate_setup(const SimulationSetup& setup) {
   const std::string& where = setup.source;
   auto fail = [&](const std::string& what) { throw InputError(where, 0, what); };

@@ -14,6 +14,7 @@
 ///   line) as an uninterrupted one. Stale temp files of killed runs in <dir> are removed.
 /// Diagnostics (run_diagnostics.hpp) after every step; a failed check writes the logs and
 ///   <dir>/failed_checkpoint.bin and throws RunFailure.
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -31,6 +32,9 @@ namespace ppohdem::dem {
 struct RunSummary {
   long steps = 0;
   double wall_seconds = 0.0;  ///< time loop only [s]
+  double gather_seconds = 0.0;  ///< the final particles gathered to rank 0 [s]
+  double write_seconds = 0.0;   ///< final.csv written (rank 0) [s]
+  std::uintmax_t write_bytes = 0;  ///< size of final.csv (rank 0) [B]
   Energies initial;
   Energies final;
   std::size_t escaped = 0;

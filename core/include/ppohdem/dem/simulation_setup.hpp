@@ -92,7 +92,7 @@ TimeStepLimit time_step_limit(const SimulationSetup& setup);
 void validate_setup(const SimulationSetup& setup);
 
 /// Pairs (index i < index j) overlapping by more than `fraction` of the smaller radius.
-/// Sort-and-sweep along x: O(N log N + N k).
+/// Cells of side 2 R_max (overlapping_pairs.cpp): O(N) for finite positions and fraction >= 0.
 std::vector<std::pair<std::size_t, std::size_t>> overlapping_pairs(const Particles& particles,
                                                                    double fraction);
 

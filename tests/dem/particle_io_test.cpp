@@ -1,0 +1,187 @@
+// The particle file reader and writer and the overlap search, against slow obvious versions
+// (docs/performance.md "Reading and writing particles"):
+// - the writer's lines are the ones snprintf("%.17g") gives, for doubles of every kind;
+// - the reader gives, for every field, what std::stod decides: the same value bits, or an
+//   error (fields of every format strtod accepts, and ones it refuses or reports out of range);
+// - overlapping_pairs finds exactly the pairs an all-pairs loop finds.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ppohdem/dem/particle_csv.hpp"
+#include "ppohdem/dem/simulation_setup.hpp"
+#include "ppohdem/error.hpp"
+#include "test_paths.hpp"
+
+namespace ppohdem::dem::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string text_of(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Doubles of every kind: random bit patterns (any exponent), and the special cases.
+std::vector<double> doubles_of_every_kind(std::size_t count) {
+  std::mt19937_64 rng(20261205);
+  std::vector<double> v = {0.0, -0.0, 1.0, -1.0, 0.1, 1.0 / 3.0, 1e-300, 5e-324, -2.2250738585072014e-308,
+                           1.7976931348623157e308, 123456789012345678.0, 1e16, 1e17, 9.999999999999999e22,
+                           std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()};
+  while (v.size() < count) v.push_back(std::bit_cast<double>(rng()));
+  std::uniform_real_distribution<double> ordinary(-10.0, 10.0);  // the values of real files
+  for (std::size_t k = 0; k < count; ++k) v.push_back(ordinary(rng));
+  return v;
+}
+
+TEST(ParticleIo, WriterLinesAreThoseOfPrintfG17) {
+  const std::vector<double> values = doubles_of_every_kind(20000);
+  Particles particles;
+  std::string expected = "# provenance\nid,x,y,z,vx,vy,vz,wx,wy,wz,radius\n";
+  for (std::size_t k = 0; k + 10 <= values.size(); k += 10) {
+    Particle p;
+    p.id = static_cast<std::int64_t>(k) * (k % 3 == 0 ? -7919 : 104729);
+    p.position = Vec3(values[k], values[k + 1], values[k + 2]);
+    p.velocity = Vec3(values[k + 3], values[k + 4], values[k + 5]);
+    p.angular_velocity = Vec3(values[k + 6], values[k + 7], values[k + 8]);
+    p.radius = values[k + 9];
+    particles.push_back(p);
+    char line[512];
+    std::snprintf(line, sizeof line, "%lld,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                  static_cast<long long>(p.id), values[k], values[k + 1], values[k + 2], values[k + 3], values[k + 4],
+                  values[k + 5], values[k + 6], values[k + 7], values[k + 8], values[k + 9]);
+    expected += line;
+  }
+  const fs::path file = ppohdem::test::scratch_dir() / "particle_io_writer.csv";
+  write_particles_csv(file, particles, "provenance");
+  EXPECT_EQ(text_of(file), expected);
+}
+
+/// What the reader must decide for a field: std::stod's value if it reads the whole field (the
+/// reader's trimming of blanks, and of a line's '\r', aside) and the value is finite, else an
+/// error.
+std::optional<double> stod_decision(std::string field) {
+  while (!field.empty() && (field.front() == ' ' || field.front() == '\t')) field.erase(0, 1);
+  while (!field.empty() && (field.back() == ' ' || field.back() == '\t' || field.back() == '\r')) field.pop_back();
+  if (field.empty()) return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(field, &used);
+    if (used != field.size() || !std::isfinite(v)) return std::nullopt;
+    return v;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+/// The reader's decision for `field` in column x of a one-particle file.
+std::optional<double> reader_decision(const std::string& field) {
+  const fs::path file = ppohdem::test::scratch_dir() / "particle_io_reader.csv";
+  std::ofstream(file) << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius\n1," << field << ",0,0,0,0,0,0,0,0,1e-3\n";
+  try {
+    const Particles p = read_particles_csv(file);
+    return p.at(0).position.x();
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
+}
+
+void expect_same_decision(const std::string& field) {
+  const auto want = stod_decision(field);
+  const auto got = reader_decision(field);
+  ASSERT_EQ(got.has_value(), want.has_value()) << "'" << field << "'";
+  if (want) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(*got), std::bit_cast<std::uint64_t>(*want)) << "'" << field << "'";
+  }
+}
+
+TEST(ParticleIo, ReaderDecidesEveryFieldAsStod) {
+  for (const char* field :
+       {"0", "-0", "0.000", "0e5", "-0.0e-400", "00012", "1", "+1.5", "-1.5", ".5", "5.", "1e5", "1E-5", "1e+5", "1e",
+        "1e-400", "4e-320", "2.2250738585072014e-308", "2.2250738585072011e-308", "1e308", "1.8e308", "0x1p-3",
+        "0X1.8P1", "inf", "-Infinity", "nan", "nan(12)", "1,5", "1 5", "1.5x", "--1", "", "e5", ".", "-.e1",
+        "0.1000000000000000055511151231257827021181583404541015625", "123456789012345678901234567890",
+        "7.2057594037927933e16", "\r1.5", "1.5\r", " 1.5", "1.5\t"}) {
+    expect_same_decision(field);
+  }
+  // Every double written as the writers of real files write it.
+  std::mt19937 rng(7);
+  for (const double v : doubles_of_every_kind(3000)) {
+    char text[64];
+    const char* formats[] = {"%.17g", "%.10g", "%.6e", "%a", "%.3f"};
+    std::snprintf(text, sizeof text, formats[rng() % 5], v);
+    expect_same_decision(text);
+  }
+}
+
+/// All pairs, the definition (simulation_setup.hpp).
+std::vector<std::pair<std::size_t, std::size_t>> all_overlapping_pairs(const Particles& p, double fraction) {
+  std::vector<std::pair<std::size_t, std::size_t>> found;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double overlap = p[i].radius + p[j].radius - (p[i].position - p[j].position).norm();
+      if (overlap > fraction * std::min(p[i].radius, p[j].radius)) found.emplace_back(i, j);
+    }
+  }
+  return found;
+}
+
+RC_GTEST_PROP(ParticleIo, OverlappingPairsAreTheAllPairsOnes, ()) {
+  // Clusters of spheres of radii over two decades, dense enough to overlap often, anywhere.
+  const auto count = *rc::gen::inRange<std::size_t>(0, 300);
+  const double spread = *rc::gen::element(1e-3, 1e-2, 1.0, 1e3);
+  const double offset = *rc::gen::element(0.0, -7.5, 1e6);
+  const double fraction = *rc::gen::element(0.0, 0.01, 0.1, 1.0);
+  std::mt19937_64 rng(*rc::gen::arbitrary<std::uint64_t>());
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Particles p(count);
+  for (Particle& q : p) {
+    q.position = Vec3(offset + spread * unit(rng), offset + spread * unit(rng), offset + spread * 0.1 * unit(rng));
+    q.radius = spread * 0.02 * std::pow(100.0, unit(rng)) / 10.0;
+  }
+  if (count > 1 && unit(rng) < 0.3) p[count - 1].position = p[0].position;  // coincident centres
+  RC_ASSERT(overlapping_pairs(p, fraction) == all_overlapping_pairs(p, fraction));
+}
+
+TEST(ParticleIo, OverlappingPairsOfAFarApartPairAndOfALattice) {
+  // Two touching spheres far from a third: the cells span 1e9 radii.
+  Particles p(3);
+  p[0].position = Vec3(0, 0, 0);
+  p[1].position = Vec3(1.9e-3, 0, 0);
+  p[2].position = Vec3(1e6, -1e6, 1e6);
+  for (Particle& q : p) q.radius = 1e-3;
+  EXPECT_EQ(overlapping_pairs(p, 0.01), all_overlapping_pairs(p, 0.01));
+  EXPECT_EQ(overlapping_pairs(p, 0.01).size(), 1u);
+  // A simple cubic lattice with spacing 1.98 R: every face neighbour overlaps by 2 % of R.
+  Particles lattice;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k) {
+        Particle q;
+        q.position = Vec3(i, j, k) * 1.98e-3;
+        q.radius = 1e-3;
+        lattice.push_back(q);
+      }
+  const auto pairs = overlapping_pairs(lattice, 0.005);
+  EXPECT_EQ(pairs, all_overlapping_pairs(lattice, 0.005));
+  EXPECT_EQ(pairs.size(), 3u * 7u * 64u);  // 7 neighbour pairs per row, 64 rows, 3 axes
+}
+
+}  // namespace
+}  // namespace ppohdem::dem::test
