@@ -194,9 +194,13 @@ std::optional<std::string> RunDiagnostics::check_overlap(const DemEngine& engine
     s << " overlaps " << boundary.describe();
     pair.m_eff = setup_.material_at(a->material).mass(a->radius);
     pair.r_eff = a->radius;
-    if (const auto c = boundary.contact(a->position, a->radius, engine.time())) {
-      approach = std::abs((a->velocity - c->surface_velocity).dot(c->normal));
+    std::vector<FeatureContact> contacts;  // a mesh object may give several: the deepest
+    boundary.contacts(a->position, a->radius, engine.time(), contacts);
+    const BoundaryContact* c = nullptr;
+    for (const FeatureContact& f : contacts) {
+      if (c == nullptr || f.contact.overlap > c->overlap) c = &f.contact;
     }
+    if (c != nullptr) approach = std::abs((a->velocity - c->surface_velocity).dot(c->normal));
   } else {
     const Particle* b = find_id(engine.particles(), deepest->id_b);
     s << " and particle id " << deepest->id_b << " overlap";

@@ -529,12 +529,26 @@ class SceneParser {
   std::shared_ptr<const DistanceFieldObject> read_object(const toml::table& t, const SimulationSetup& s,
                                                          std::size_t index) const {
     check_keys(t, "object", {"name", "distance", "mesh", "cells", "margin", "velocity", "axis", "omega",
-                             "centroid", "start", "stop", "material", "motion"});
+                             "centroid", "start", "stop", "material", "motion", "contact"});
     const std::string name = t.contains("name") ? require_string(t, "object", "name")
                                                 : "object " + std::to_string(index + 1);
     const bool has_distance = t.contains("distance");
     const bool has_mesh = t.contains("mesh");
     if (has_distance == has_mesh) fail(&t, "[[object]] needs exactly one of distance = \"phi.vtk\" or mesh = \"m.stl\"");
+    // contact = "mesh" (default for mesh =): the mesh's faces, edges and vertices
+    // (mesh_contact.hpp); "field" (the only one for distance =): the seed's single trilinear
+    // contact (docs/objects.md "Exact contacts for mesh objects").
+    bool mesh_contacts = has_mesh;
+    if (t.contains("contact")) {
+      const std::string contact = require_string(t, "object", "contact");
+      if (contact != "mesh" && contact != "field") {
+        fail(t.get("contact"), "[object] contact: expected \"mesh\" or \"field\", found \"" + contact + "\"");
+      }
+      if (contact == "mesh" && !has_mesh) {
+        fail(t.get("contact"), "[object] contact = \"mesh\" needs mesh = \"m.stl\" (a distance = object has only its field)");
+      }
+      mesh_contacts = contact == "mesh";
+    }
     ScalarField field;
     std::optional<TriangleMesh> display_mesh;  // the mesh = itself, in the object frame
     if (has_distance) {
@@ -585,6 +599,7 @@ class SceneParser {
       if (stop < start) fail(t.get("stop"), "[object] stop must be >= start");
       object = std::make_shared<DistanceFieldObject>(std::move(field), motion, name_ + ": " + name, start, stop);
     }
+    if (mesh_contacts) object->use_mesh_contacts(*display_mesh);
     if (display_mesh) object->set_display_mesh(std::move(*display_mesh));
     return object;
   }

@@ -185,7 +185,7 @@ class BoundaryForces final : public ForcePass {
     Particles& p = c.particles;
     active_ = 0;
     loads_.assign(boundaries_.size(), ppohdem::dem::BoundaryLoad{});
-    std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> next_history;
+    std::map<std::pair<std::int64_t, std::int64_t>, TangentialSpring> next_history;
     double power = 0.0;  // P(n+1) = sum of (F_i - F_d) . v_s over the contacts [W]
     for (std::size_t i = 0; i < p.size(); ++i) {
       Particle& a = p[i];
@@ -198,58 +198,60 @@ class BoundaryForces final : public ForcePass {
           }
           continue;
         }
-        const auto contact = boundary.contact(a.position, a.radius, c.time);
-        if (!contact) continue;
-        ++active_;
-        c.note_overlap(contact->overlap, a.radius, a.id, static_cast<std::int64_t>(w), true);
-        ContactKinematics k;
-        k.normal = contact->normal;
-        k.overlap = contact->overlap;
-        const Vec3 r_a = contact->point - a.position;  // branch vector to the contact point [m]
-        k.relative_velocity =
-            c.velocity[i] + c.angular_velocity[i].cross(r_a) - contact->surface_velocity;
-        k.pair.m_eff = c.mass[i];
-        k.pair.r_eff = a.radius;
-        const Law& law = laws_.boundary(a.material, w);
-        if (law.rolling().active()) {  // the boundary's spin is that of its material
-          k.relative_spin = c.angular_velocity[i] - contact->surface_spin;
-          k.relative_rotation = c.dt * (a.angular_velocity - contact->surface_spin);
+        boundary.contacts(a.position, a.radius, c.time, touching_);  // by feature (boundary.hpp)
+        for (const ppohdem::dem::FeatureContact& touching : touching_) {
+          const auto* contact = &touching.contact;
+          ++active_;
+          c.note_overlap(contact->overlap, a.radius, a.id, static_cast<std::int64_t>(w), true);
+          ContactKinematics k;
+          k.normal = contact->normal;
+          k.overlap = contact->overlap;
+          const Vec3 r_a = contact->point - a.position;  // branch vector to the contact point [m]
+          k.relative_velocity =
+              c.velocity[i] + c.angular_velocity[i].cross(r_a) - contact->surface_velocity;
+          k.pair.m_eff = c.mass[i];
+          k.pair.r_eff = a.radius;
+          const Law& law = laws_.boundary(a.material, w);
+          if (law.rolling().active()) {  // the boundary's spin is that of its material
+            k.relative_spin = c.angular_velocity[i] - contact->surface_spin;
+            k.relative_rotation = c.dt * (a.angular_velocity - contact->surface_spin);
+          }
+          ContactForce f;
+          if constexpr (kFriction) {
+            const auto key = std::pair(a.id, ppohdem::dem::boundary_history_key(w, touching.feature));
+            TangentialSpring spring;
+            const auto it = history_.find(key);
+            if (it != history_.end()) spring = it->second;
+            // The boundary's material moved by (v_s(n) + v_s(n+1)) dt / 2 during the step (the
+            // trapezoid rule of Verlet; contact_force.hpp "Moving boundaries") [m/s].
+            const Vec3 v_s = ppohdem::dem::boundary_step_velocity(spring, it != history_.end(),
+                                                                  contact->surface_velocity);
+            k.relative_displacement = c.dt * (a.velocity + a.angular_velocity.cross(r_a) - v_s);
+            k.relative_displacement_previous_arms =
+                c.dt * (a.velocity + a.angular_velocity.cross(spring.branch_i) - v_s);
+            f = ppohdem::dem::frictional_contact_force(law, k, spring, c.dt);
+            spring.branch_i = r_a;
+            next_history.emplace(key, spring);
+          } else {
+            f = ppohdem::dem::normal_contact_force(law, k, c.dt);
+          }
+          a.force += f.on_i;
+          if (law.rolling().active()) {
+            a.torque += r_a.cross(f.on_i) + f.rolling_torque;
+          } else {
+            a.torque += r_a.cross(f.on_i);
+          }
+          // Reaction on the boundary (Newton's third law), at the contact point.
+          loads_[w].force -= f.on_i;
+          loads_[w].moment_about_origin += contact->point.cross(-f.on_i);
+          if (law.rolling().active()) loads_[w].moment_about_origin -= f.rolling_torque;
+          c.elastic += f.elastic_energy;
+          c.dissipated += f.dissipated;
+          // Work of the boundary on the particle (contact_force.hpp "Moving boundaries"): the
+          // dashpot's share now, F_d . v_s dt, as its dissipation; the rest below [J].
+          c.boundary_work += f.dashpot.dot(contact->surface_velocity) * c.dt;
+          power += (f.on_i - f.dashpot).dot(contact->surface_velocity);
         }
-        ContactForce f;
-        if constexpr (kFriction) {
-          const auto key = std::pair(a.id, w);
-          TangentialSpring spring;
-          const auto it = history_.find(key);
-          if (it != history_.end()) spring = it->second;
-          // The boundary's material moved by (v_s(n) + v_s(n+1)) dt / 2 during the step (the
-          // trapezoid rule of Verlet; contact_force.hpp "Moving boundaries") [m/s].
-          const Vec3 v_s = ppohdem::dem::boundary_step_velocity(spring, it != history_.end(),
-                                                                contact->surface_velocity);
-          k.relative_displacement = c.dt * (a.velocity + a.angular_velocity.cross(r_a) - v_s);
-          k.relative_displacement_previous_arms =
-              c.dt * (a.velocity + a.angular_velocity.cross(spring.branch_i) - v_s);
-          f = ppohdem::dem::frictional_contact_force(law, k, spring, c.dt);
-          spring.branch_i = r_a;
-          next_history.emplace(key, spring);
-        } else {
-          f = ppohdem::dem::normal_contact_force(law, k, c.dt);
-        }
-        a.force += f.on_i;
-        if (law.rolling().active()) {
-          a.torque += r_a.cross(f.on_i) + f.rolling_torque;
-        } else {
-          a.torque += r_a.cross(f.on_i);
-        }
-        // Reaction on the boundary (Newton's third law), at the contact point.
-        loads_[w].force -= f.on_i;
-        loads_[w].moment_about_origin += contact->point.cross(-f.on_i);
-        if (law.rolling().active()) loads_[w].moment_about_origin -= f.rolling_torque;
-        c.elastic += f.elastic_energy;
-        c.dissipated += f.dissipated;
-        // Work of the boundary on the particle (contact_force.hpp "Moving boundaries"): the
-        // dashpot's share now, F_d . v_s dt, as its dissipation; the rest below [J].
-        c.boundary_work += f.dashpot.dot(contact->surface_velocity) * c.dt;
-        power += (f.on_i - f.dashpot).dot(contact->surface_velocity);
       }
     }
     // The rest by the trapezoid rule, as Verlet books the kinetic energy:
@@ -273,8 +275,7 @@ class BoundaryForces final : public ForcePass {
     state.boundary_loads = loads_;
     state.escaped_ids.assign(escaped_.begin(), escaped_.end());
     for (const auto& [key, spring] : history_) {
-      state.contacts.push_back({Record::Kind::kParticleBoundary, key.first,
-                                static_cast<std::int64_t>(key.second), spring});
+      state.contacts.push_back({Record::Kind::kParticleBoundary, key.first, key.second, spring});
     }
   }
   void restore(const EngineState& state) override {
@@ -288,11 +289,12 @@ class BoundaryForces final : public ForcePass {
       if (!kFriction) {
         throw InputError("checkpoint: a particle-boundary friction history, but this scene is frictionless");
       }
-      if (r.id_b < 0 || static_cast<std::size_t>(r.id_b) >= boundaries_.size()) {
-        throw InputError("checkpoint: a contact history with boundary " + std::to_string(r.id_b) +
-                         ", the scene has " + std::to_string(boundaries_.size()));
+      if (r.id_b < 0 || ppohdem::dem::boundary_of_history_key(r.id_b) >= boundaries_.size()) {
+        throw InputError("checkpoint: a contact history with boundary " +
+                         std::to_string(ppohdem::dem::boundary_of_history_key(r.id_b)) + ", the scene has " +
+                         std::to_string(boundaries_.size()));
       }
-      history.emplace(std::pair(r.id_a, static_cast<std::size_t>(r.id_b)), r.spring);
+      history.emplace(std::pair(r.id_a, r.id_b), r.spring);
     }
     history_ = std::move(history);
     escaped_ = std::set<std::int64_t>(state.escaped_ids.begin(), state.escaped_ids.end());
@@ -309,7 +311,9 @@ class BoundaryForces final : public ForcePass {
   std::size_t active_ = 0;
   double power_ = 0.0;  ///< P(n) of the last evaluation, without the dashpots' share [W]
   std::set<std::int64_t> escaped_;
-  std::map<std::pair<std::int64_t, std::size_t>, TangentialSpring> history_;  // seed: contact_list_wall
+  /// (particle id, boundary_history_key(boundary, feature)) -> spring; seed: contact_list_wall
+  std::map<std::pair<std::int64_t, std::int64_t>, TangentialSpring> history_;
+  std::vector<ppohdem::dem::FeatureContact> touching_;  ///< scratch: one boundary's contacts
 };
 
 }  // namespace ppohdem::dem::reference

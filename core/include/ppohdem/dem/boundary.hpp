@@ -3,9 +3,10 @@
 /// Rigid boundaries that particles touch: planar walls now, rigid objects given by distance
 /// fields later. A boundary is a body of infinite mass whose motion is prescribed as a
 /// function of time, so it is immutable and evaluated at a time t [s] (no per-step state).
-/// Engines keep one contact history per (particle id, boundary index) and use the same
+/// Engines keep one contact history per (particle id, boundary index, feature) and use the same
 /// contact laws as for particle pairs, with j = the boundary: R* = R_i, m* = m_i, and the
 /// boundary's velocity at the contact point in v_rel (contact_force.hpp).
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +25,23 @@ struct BoundaryContact {
   Vec3 surface_spin = Vec3::Zero();  ///< angular velocity of the boundary [rad/s] (rolling resistance)
 };
 
+/// One of several contacts of a sphere with a boundary, with the boundary's feature it touches
+/// (a face, edge or vertex of a mesh object: mesh_contact.hpp); feature 0 is the single
+/// contact of contact(). Engines keep one tangential history per (particle, boundary, feature).
+struct FeatureContact {
+  BoundaryContact contact;
+  std::uint32_t feature = 0;  ///< < 2^31 (see boundary_history_key)
+};
+
+/// The contact-history key of a boundary contact (the id_b of a checkpoint's
+/// ContactHistoryRecord, engine.hpp): boundary index + 2^32 feature. Feature 0 keeps the key of
+/// one contact per boundary (= the boundary index), so checkpoints without features read as before.
+inline std::int64_t boundary_history_key(std::size_t boundary, std::uint32_t feature) {
+  return static_cast<std::int64_t>(boundary) + (static_cast<std::int64_t>(feature) << 32);
+}
+inline std::size_t boundary_of_history_key(std::int64_t key) { return static_cast<std::size_t>(key & 0xFFFFFFFF); }
+inline std::uint32_t feature_of_history_key(std::int64_t key) { return static_cast<std::uint32_t>(key >> 32); }
+
 class Boundary {
  public:
   virtual ~Boundary() = default;
@@ -31,6 +49,12 @@ class Boundary {
   /// nothing if they do not overlap or the centre has crossed to the solid side.
   virtual std::optional<BoundaryContact> contact(const Vec3& centre, double radius,
                                                  double time) const = 0;
+  /// All contacts of the sphere at time t into `out` (cleared first), sorted by feature. The
+  /// default is contact() as feature 0; a mesh object gives one per touching face, edge or vertex.
+  virtual void contacts(const Vec3& centre, double radius, double time, std::vector<FeatureContact>& out) const {
+    out.clear();
+    if (auto c = contact(centre, radius, time)) out.push_back({*c, 0});
+  }
   /// True if the centre has crossed to the solid side at time t: the particle left the domain.
   virtual bool has_escaped(const Vec3& centre, double time) const = 0;
   /// Human-readable description for logs, e.g. "wall point (0,0,-0.01) normal (0,0,1)".

@@ -32,16 +32,23 @@
 /// contact (the object is treated as far away) and is counted (outside_grid_count()); the
 /// caller warns once (run_scene does).
 ///
-/// Display mesh (optional, pictures only; never used for contact): a TriangleMesh in the object
+/// Display mesh (optional, for pictures): a TriangleMesh in the object
 /// frame (the frame of `field.grid`); the frame writers draw it moved by pose_at(t).
+///
+/// Contact mesh (optional, use_mesh_contacts()): contacts() then gives the exact contacts of
+/// the mesh's faces, edges and vertices (mesh_contact.hpp), the field only finding the
+/// candidates (object_mesh_contacts.cpp; docs/objects.md "Exact contacts for mesh objects").
+/// contact() stays the field's single trilinear contact (the seed's method).
 #include <atomic>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 
 #include "ppohdem/dem/boundary.hpp"
+#include "ppohdem/dem/mesh_contact.hpp"
 #include "ppohdem/geometry/motion_program.hpp"
 #include "ppohdem/geometry/rigid_motion.hpp"
 #include "ppohdem/grid/scalar_field.hpp"
@@ -61,6 +68,10 @@ class DistanceFieldObject final : public Boundary {
 
   std::optional<BoundaryContact> contact(const Vec3& centre, double radius,
                                          double time) const override;
+  /// With a contact mesh: its contacts (feature ids of mesh_contact.hpp) where the field says
+  /// phi < R + one cell diagonal; the field's contact (feature 0) for a centre inside (phi <= 0).
+  /// Without: contact() as feature 0.
+  void contacts(const Vec3& centre, double radius, double time, std::vector<FeatureContact>& out) const override;
   bool has_escaped(const Vec3& /*centre*/, double /*time*/) const override { return false; }
   std::string describe() const override;
 
@@ -87,6 +98,12 @@ class DistanceFieldObject final : public Boundary {
   /// The display mesh, or nullptr if the object has none.
   const TriangleMesh* display_mesh() const { return display_mesh_ ? &*display_mesh_ : nullptr; }
 
+  /// Contacts from `mesh` (object frame, the mesh the field was built from); call before the
+  /// object is shared. Throws InputError if the mesh has no triangle of non-zero area.
+  void use_mesh_contacts(const TriangleMesh& mesh);
+  /// The contact mesh, or nullptr if contacts come from the field alone.
+  const MeshContactGeometry* contact_mesh() const { return contact_mesh_.get(); }
+
  private:
   void check_field() const;
 
@@ -97,6 +114,7 @@ class DistanceFieldObject final : public Boundary {
   double start_;
   double stop_;
   std::optional<TriangleMesh> display_mesh_;
+  std::shared_ptr<const MeshContactGeometry> contact_mesh_;
   mutable std::atomic<std::size_t> outside_grid_{0};
 };
 

@@ -54,7 +54,7 @@ struct BoundaryLoad {
 
 struct ContactCounts {
   std::size_t particle_pairs = 0;     ///< touching particle pairs
-  std::size_t particle_boundary = 0;  ///< touching (particle, boundary) pairs
+  std::size_t particle_boundary = 0;  ///< particle-boundary contacts (a mesh object: one per touching feature)
 };
 
 /// The history of one frictional contact, keyed by global identities so that the record does

@@ -97,6 +97,7 @@ struct History {
     p.put(record_first[k + 1] - record_first[k]);
     for (std::uint32_t a = record_first[k]; a < record_first[k + 1]; ++a) {
       p.put(records[a].boundary);
+      p.put(records[a].feature);
       p.put(records[a].spring);
       p.put(records[a].force);
       p.put(records[a].point);
@@ -114,6 +115,7 @@ struct History {
     for (std::uint32_t a = 0; a < count; ++a) {
       BoundaryRecord r;
       u.get(r.boundary);
+      u.get(r.feature);
       u.get(r.spring);
       u.get(r.force);
       u.get(r.point);
@@ -306,7 +308,7 @@ struct FastEngine::Impl {
 
   /// A boundary record as sent between ranks (plain arrays: sent as bytes).
   struct Load {
-    std::uint32_t original, boundary;
+    std::uint32_t original, boundary, feature;
     double force[3], point[3], rolling[3];
   };
 

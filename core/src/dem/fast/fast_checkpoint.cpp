@@ -40,7 +40,7 @@ EngineState FastEngine::save_state() const {
       }
     }
     for (const BoundaryRecord& r : s.records) {
-      put(ContactHistoryRecord::Kind::kParticleBoundary, s.id[r.particle], static_cast<std::int64_t>(r.boundary), r.spring);
+      put(ContactHistoryRecord::Kind::kParticleBoundary, s.id[r.particle], boundary_history_key(r.boundary, r.feature), r.spring);
     }
     for (const Bytes& block : m.comm->allgather(mine)) {
       Unpacker u(block);
@@ -107,8 +107,8 @@ void FastEngine::restore_state(const EngineState& state) {
   for (const ContactHistoryRecord& c : state.contacts) {
     known(c.id_a);
     if (c.kind == ContactHistoryRecord::Kind::kParticleBoundary) {
-      if (c.id_b < 0 || static_cast<std::size_t>(c.id_b) >= s.boundaries.size()) {
-        throw InputError("restore_state: boundary index " + std::to_string(c.id_b) + " out of range");
+      if (c.id_b < 0 || boundary_of_history_key(c.id_b) >= s.boundaries.size()) {
+        throw InputError("restore_state: boundary index " + std::to_string(boundary_of_history_key(c.id_b)) + " out of range");
       }
     } else {
       known(c.id_b);
@@ -144,7 +144,8 @@ void FastEngine::restore_state(const EngineState& state) {
       if (const auto a = owned_index(c.id_a)) {
         BoundaryRecord r;
         r.particle = static_cast<std::uint32_t>(*a);
-        r.boundary = static_cast<std::uint32_t>(c.id_b);
+        r.boundary = static_cast<std::uint32_t>(boundary_of_history_key(c.id_b));
+        r.feature = feature_of_history_key(c.id_b);
         r.spring = c.spring;
         records.push_back(r);
       }
@@ -173,7 +174,7 @@ void FastEngine::restore_state(const EngineState& state) {
   if (m.distributed()) misplaced = m.comm->max_over_ranks(misplaced ? 1.0 : 0.0) > 0.0;
   if (misplaced) throw InputError("restore_state: a contact history joins particles that are not neighbours");
   std::sort(records.begin(), records.end(), [](const BoundaryRecord& x, const BoundaryRecord& y) {
-    return std::pair(x.particle, x.boundary) < std::pair(y.particle, y.boundary);
+    return std::pair(x.particle, record_key(x)) < std::pair(y.particle, record_key(y));
   });
   s.records = std::move(records);
   s.record_first.assign(s.owned + 1, 0);

@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/contact_force.hpp"
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
@@ -44,15 +45,22 @@ inline int thread_id() {
 #endif
 }
 
-/// One particle-boundary contact of the last evaluation (sorted by (particle, boundary)).
+/// One particle-boundary contact of the last evaluation (sorted by (particle, boundary, feature)).
 struct BoundaryRecord {
   std::uint32_t particle = 0;  ///< storage (cell-sorted) index
   std::uint32_t boundary = 0;  ///< index in SimulationSetup::boundaries
+  std::uint32_t feature = 0;   ///< the boundary's feature (boundary.hpp FeatureContact; 0: its only contact)
   TangentialSpring spring;     ///< friction only
   Vec3 force = Vec3::Zero();   ///< contact force on the particle [N]
   Vec3 point = Vec3::Zero();   ///< contact point [m]
   Vec3 rolling = Vec3::Zero(); ///< rolling torque on the particle (FastState::rolling) [N m]
 };
+
+/// A particle's records are in this order: by boundary, then by feature.
+inline std::uint64_t record_key(std::size_t boundary, std::uint32_t feature) {
+  return (static_cast<std::uint64_t>(boundary) << 32) | feature;
+}
+inline std::uint64_t record_key(const BoundaryRecord& r) { return record_key(r.boundary, r.feature); }
 
 /// One entry of a chunk's pair list (frictional kernels, force_pairs.hpp): a touching
 /// pair that the chunk's particle evaluates, or a contact that ended (its stored energy is lost).
@@ -90,6 +98,7 @@ struct alignas(64) ThreadOutput {
   /// does not grow its pools (friction only; emptied by lay_out_springs).
   std::vector<std::uint32_t> free_springs;
   PairBatch batch;  ///< the current chunk's pairs (frictional kernels; reused storage)
+  std::vector<FeatureContact> touching;  ///< one boundary's contacts (force_boundaries.hpp; reused)
 };
 
 /// Deterministic choice of the deeper contact: larger ratio, ties to the smaller
@@ -217,7 +226,7 @@ struct FastState {
   const PairResult& result_at(std::uint32_t code) const {
     return result_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
   }
-  // --- boundary contacts of the last evaluation, sorted by (particle, boundary) ---
+  // --- boundary contacts of the last evaluation, sorted by (particle, boundary, feature) ---
   std::vector<BoundaryRecord> records;
   std::vector<std::uint32_t> record_first;  ///< n + 1 offsets into records
   std::vector<BoundaryRecord> next_records;        ///< the kernel's output buffers (swapped in)

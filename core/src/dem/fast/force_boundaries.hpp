@@ -1,7 +1,8 @@
 #pragma once
 // The force kernel's boundary pass (force_kernel.cpp): a particle's contacts with the scene's
-// boundaries, in boundary order, right after its pair contacts. A contact's spring is carried
-// over from the particle's record of that boundary at the last evaluation; a record that finds
+// boundaries, in boundary order (a mesh object's several contacts in feature order: boundary.hpp
+// FeatureContact), right after its pair contacts. A contact's spring is carried over from the
+// particle's record of that boundary and feature at the last evaluation; a record that finds
 // no contact ended (its stored energy is lost). Each contact writes a new record (force,
 // point, spring, rolling torque), which the frictional kernels' sum pass adds to the particle
 // (force_sums.hpp); the frictionless kernels add it here. Planar walls are evaluated inline
@@ -9,6 +10,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "force_pass.hpp"
 
@@ -28,11 +30,12 @@ struct BoundaryWalk {
   std::uint32_t old_end;
 };
 
-/// Whether the particle at x with radius r touches boundary b at time `time` (then `c` is the
-/// contact) or has escaped through it.
+/// Whether the particle at x with radius r touches boundary b at time `time` or has escaped
+/// through it. Touching: a wall's contact is `c`; another boundary's contacts are `several`
+/// (Boundary::contacts: a mesh object gives one per touching face, edge or vertex).
 template <class K>
 inline BoundaryTouch touch_boundary(const FastState& s, std::size_t b, const Vec3& x, double r, double time,
-                                    BoundaryContact& c) {
+                                    BoundaryContact& c, std::vector<FeatureContact>& several) {
   if (K::kWalls && s.is_wall[b]) {
     const WallData& wall = s.walls[b];
     const double distance = PlaneWall::signed_distance(wall.point, wall.normal, x);
@@ -44,20 +47,29 @@ inline BoundaryTouch touch_boundary(const FastState& s, std::size_t b, const Vec
   } else if constexpr (K::kOthers) {
     const Boundary& boundary = *s.boundaries[b];
     if (boundary.has_escaped(x, time)) return BoundaryTouch::kEscaped;
-    if (const auto contact = boundary.contact(x, r, time)) {
-      c = *contact;
-      return BoundaryTouch::kTouching;
-    }
+    boundary.contacts(x, r, time, several);
+    if (!several.empty()) return BoundaryTouch::kTouching;
   }
   return BoundaryTouch::kApart;
 }
 
-/// The particle's contact c with boundary b: kinematics, the law (with the spring of its
-/// record of b, if the walk is there), the new record, and the particle's energy terms.
+/// The particle's contact c with feature `feature` of boundary b: counted, offered as the
+/// deepest, kinematics, the law (with the spring of its record of (b, feature), if the walk is
+/// there; its records before that ended), the new record, and the particle's energy terms.
 template <class K>
 inline void boundary_contact(const K& kernel, RangePass& pass, BoundaryWalk& walk, std::size_t b,
-                             const BoundaryContact& c, ParticleSums& sums) {
+                             const BoundaryContact& c, std::uint32_t feature, ParticleSums& sums) {
   FastState& s = pass.s;
+  if constexpr (K::kFriction) {
+    for (; walk.old < walk.old_end && record_key(s.records[walk.old]) < record_key(b, feature); ++walk.old) {
+      if constexpr (K::kEnergy) sums.dissipated += s.records[walk.old].spring.stored_energy();  // ended
+    }
+  }
+  ++pass.touching_boundaries;
+  std::optional<LargestOverlap>& deepest = pass.out.deepest;
+  if (!deepest || c.overlap / walk.radius >= deepest->ratio) {
+    keep_deeper(deepest, LargestOverlap{c.overlap / walk.radius, c.overlap, walk.id, static_cast<std::int64_t>(b), true});
+  }
   const std::size_t i = walk.i;
   const double dt = pass.dt;
   ContactKinematics k;
@@ -70,9 +82,10 @@ inline void boundary_contact(const K& kernel, RangePass& pass, BoundaryWalk& wal
   BoundaryRecord record;
   record.particle = static_cast<std::uint32_t>(i);
   record.boundary = static_cast<std::uint32_t>(b);
+  record.feature = feature;
   ContactForce f;
   if constexpr (K::kFriction) {
-    const bool continuing = walk.old < walk.old_end && s.records[walk.old].boundary == b;
+    const bool continuing = walk.old < walk.old_end && record_key(s.records[walk.old]) == record_key(b, feature);
     if (continuing) record.spring = s.records[walk.old++].spring;
     TangentialSpring& sp = record.spring;
     // Trapezoid surface displacement (contact_force.hpp "Moving boundaries").
@@ -107,8 +120,7 @@ inline void boundary_contact(const K& kernel, RangePass& pass, BoundaryWalk& wal
 }
 
 /// Boundary b for the walking particle: its records of boundaries before b ended; then an
-/// escape (noted once per particle), no contact, or a contact (counted, offered as the
-/// deepest, evaluated).
+/// escape (noted once per particle), no contact, or its contacts in feature order.
 template <class K>
 inline void visit_boundary(const K& kernel, RangePass& pass, BoundaryWalk& walk, std::size_t b, ParticleSums& sums) {
   FastState& s = pass.s;
@@ -118,7 +130,8 @@ inline void visit_boundary(const K& kernel, RangePass& pass, BoundaryWalk& walk,
     }
   }
   BoundaryContact c;
-  const BoundaryTouch touch = touch_boundary<K>(s, b, walk.x, walk.radius, pass.time, c);
+  std::vector<FeatureContact>& several = pass.out.touching;
+  const BoundaryTouch touch = touch_boundary<K>(s, b, walk.x, walk.radius, pass.time, c, several);
   if (touch == BoundaryTouch::kEscaped) {
     if (s.escaped_via[walk.i] == 0) {
       s.escaped_via[walk.i] = static_cast<std::int32_t>(b + 1);
@@ -127,12 +140,11 @@ inline void visit_boundary(const K& kernel, RangePass& pass, BoundaryWalk& walk,
     return;
   }
   if (touch == BoundaryTouch::kApart) return;
-  ++pass.touching_boundaries;
-  std::optional<LargestOverlap>& deepest = pass.out.deepest;
-  if (!deepest || c.overlap / walk.radius >= deepest->ratio) {
-    keep_deeper(deepest, LargestOverlap{c.overlap / walk.radius, c.overlap, walk.id, static_cast<std::int64_t>(b), true});
+  if (K::kWalls && s.is_wall[b]) {
+    boundary_contact(kernel, pass, walk, b, c, 0u, sums);
+  } else {
+    for (const FeatureContact& f : several) boundary_contact(kernel, pass, walk, b, f.contact, f.feature, sums);
   }
-  boundary_contact(kernel, pass, walk, b, c, sums);
 }
 
 /// Particle i's boundary contacts in boundary order, then its stores: force and torque (the

@@ -8,7 +8,7 @@ std::vector<FastEngine::Impl::Load> FastEngine::Impl::own_loads() const {
   std::vector<Load> mine(s.records.size());
   for (std::size_t r = 0; r < s.records.size(); ++r) {
     const BoundaryRecord& record = s.records[r];
-    mine[r] = {s.original[record.particle], record.boundary, {record.force.x(), record.force.y(), record.force.z()},
+    mine[r] = {s.original[record.particle], record.boundary, record.feature, {record.force.x(), record.force.y(), record.force.z()},
                {record.point.x(), record.point.y(), record.point.z()},
                {record.rolling.x(), record.rolling.y(), record.rolling.z()}};
   }
@@ -19,7 +19,7 @@ void FastEngine::Impl::add_gathered_loads(std::vector<Load>& all_records) const 
   const std::size_t nb = s.boundaries.size();
   block_loads.assign(sum_blocks(total) * nb, BoundaryLoad{});
   std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
-    return std::pair(a.original, a.boundary) < std::pair(b.original, b.boundary);
+    return std::tuple(a.original, a.boundary, a.feature) < std::tuple(b.original, b.boundary, b.feature);
   });
   for (const Load& r : all_records) {
     add_load(block_loads.data() + r.original / kSumBlock * nb, r.boundary, Vec3(r.force[0], r.force[1], r.force[2]),
