@@ -27,6 +27,7 @@
 #              ppohdem runs with `simulate --phases`, LIGGGHTS and LAMMPS run their deck's `run` in
 #              pieces (`run N upto pre no post no`); results.md gets a table per phase (best
 #              over the rounds, against LIGGGHTS on 1 core) and phases.tsv every phase of every run
+#   --cores "1"  run every code on 1 core only (default "1 2"; also "2")
 #   --repeat K run every code K times, interleaved (all codes once, then all again, ...), and
 #              add a table of the best and median loop times and their ratios: on a shared or
 #              virtual machine single runs of one binary vary more than the differences
@@ -56,6 +57,7 @@ ENGINES_ARG=""
 REPEAT=1
 UNTRACKED=0
 PHASES_ARG="500,2500,6000"
+CORES="1 2"
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
@@ -67,6 +69,7 @@ while [ $# -gt 0 ]; do
     --repeat) REPEAT=$2; shift ;;
     --untracked) UNTRACKED=1 ;;
     --phases) PHASES_ARG=$2; shift ;;
+    --cores) CORES=$2; shift ;;
     *) echo "bench-dem: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -173,7 +176,7 @@ write_our_scene() {  # case_dir dir [untracked]
 run_ours() {  # engine N steps case_dir [untracked]
   local engine=$1 n=$2 steps=$3 case_dir=$4 untracked=${5:-} cores mode dir loop speeds one_loop="" line label=$1
   [ -n "$untracked" ] && label="$engine-untracked"
-  for cores in 1 2; do
+  for cores in $CORES; do
     for mode in threads ranks; do
       [ "$cores" -eq 1 ] && [ "$mode" = ranks ] && continue
       if [ "$mode" = ranks ] && [ "$engine" = reference ]; then  # serial by design: refuses P > 1
@@ -279,15 +282,14 @@ for spec in "${SIZES[@]}"; do
       case "$code" in
         ours) for e in "${ENGINES[@]}"; do
                 run_ours "$e" "$n" "$steps" "$case_dir"
-                [ "$e" = fast ] && run_alternating "$e" "$n" "$steps" "$case_dir"
+                [ "$e" = fast ] && [ "$CORES" != 1 ] && run_alternating "$e" "$n" "$steps" "$case_dir"
                 [ "$UNTRACKED" -eq 1 ] && run_ours "$e" "$n" "$steps" "$case_dir" untracked
-                [ "$UNTRACKED" -eq 1 ] && [ "$e" = fast ] && run_alternating "$e" "$n" "$steps" "$case_dir" untracked
+                [ "$UNTRACKED" -eq 1 ] && [ "$e" = fast ] && [ "$CORES" != 1 ] && run_alternating "$e" "$n" "$steps" "$case_dir" untracked
               done ;;
         liggghts|lammps|yade)
           exe=$code; [ "$code" = lammps ] && exe=lmp
           if ! command -v "$exe" >/dev/null 2>&1; then echo "bench-dem: $exe not installed, skipped" >&2; continue; fi
-          run_peer "$code" "$n" "$steps" 1 "$case_dir"
-          run_peer "$code" "$n" "$steps" 2 "$case_dir" ;;
+          for cores in $CORES; do run_peer "$code" "$n" "$steps" "$cores" "$case_dir"; done ;;
       esac
     done
   done
