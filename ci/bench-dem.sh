@@ -393,7 +393,7 @@ done
     echo "The fast engine's threads against each other, as its force kernel measured them in each run"
     echo "(the slowest thread's speed over the fastest's; with 2 threads at a ratio q the run can be at"
     echo "most 1 + q times as fast as on the faster core alone), with the same round's 1-thread run and"
-    echo "the probe's line round trip (docs/performance.md \"Two states of the VM\": 90-170 ns and"
+    echo "the probe's line round trip (docs/machine.md \"Two states of the VM\": 90-170 ns and"
     echo "380-450 ns are two placements of the two vCPUs, and the 2-thread ratio follows them):"
     echo
     sed 's/^/- /' "$SPEEDS"

@@ -8,7 +8,7 @@
 //   line:    one cache line bounced between the two threads, nanoseconds per round trip;
 //   barrier: an OpenMP barrier of the two threads, microseconds.
 // The round trip changes with where the two vCPUs sit, and with it the fast engine's 2-thread
-// ratio (docs/performance.md "Two states of the VM").
+// ratio (docs/machine.md "Two states of the VM").
 // Prints one line: "scaling probe: compute <ratio> stream <ratio> line <ns> barrier <us>"
 // (ratios: time on 1 thread / on 2). Built by ci/bench-dem.sh with `g++ -O2 -fopenmp`.
 #include <omp.h>

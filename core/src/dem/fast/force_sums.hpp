@@ -13,7 +13,7 @@
 // (its work is about the same per slot), corrected by the pass's own measured times every
 // kSumRecut evaluations (FastState::sum_share), while the pair pass's ranges are balanced by
 // that pass's measured times alone, so that each barrier waits less (docs/performance.md
-// "Each pass its own cut" and "Two threads: where the time goes").
+// "Each pass its own cut"; docs/machine.md "Two threads: where the time goes").
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
