@@ -14,7 +14,7 @@ namespace ppohdem::app {
 class PhaseTiming {
  public:
   /// `marks`: step numbers strictly increasing and inside (first_step, last_step).
-  PhaseTiming(std::vector<long> marks, long first_step, long last_step) : last_step_(last_step) {
+  PhaseTiming(std::vector<long> marks, long first_step, long last_step) {
     long previous = first_step;
     for (const long mark : marks) {
       if (mark <= previous || mark >= last_step) {
@@ -60,7 +60,6 @@ class PhaseTiming {
     long first, last;
     double seconds;
   };
-  long last_step_;
   std::vector<long> ends_;
   std::vector<Phase> phases_;
   std::size_t next_ = 0;
