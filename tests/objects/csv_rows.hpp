@@ -1,6 +1,8 @@
 #pragma once
-// The data rows of a ppohdem CSV output (energy.csv, objects.csv) as doubles, for the sample
-// tests: provenance comment lines ('#') and the header (it starts with "step") are skipped.
+// The data rows of a ppohdem CSV output (energy.csv, objects.csv, final.csv) as doubles:
+// provenance comment lines ('#') and the header (it starts with a letter: "step", "id") are
+// skipped.
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,7 +16,7 @@ inline std::vector<std::vector<double>> numeric_csv_rows(const std::filesystem::
   std::vector<std::vector<double>> rows;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == 's') continue;  // comments, header
+    if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0]))) continue;
     std::vector<double> row;
     std::stringstream s(line);
     std::string cell;

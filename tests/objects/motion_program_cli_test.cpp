@@ -103,20 +103,7 @@ fs::path program_scene_dir(const std::string& first_velocity = "[-0.1, 0.0, -0.3
 }
 
 /// The particle rows of final.csv (id, x, y, z, ...) as doubles.
-std::vector<std::vector<double>> particle_rows(const fs::path& file) {
-  std::istringstream in(slurp(file));
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == 'i') continue;  // comments, header
-    std::vector<double> row;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
-}
+std::vector<std::vector<double>> particle_rows(const fs::path& file) { return ppohdem::test::numeric_csv_rows(file); }
 
 const char* const kOutputs[] = {"final.csv", "energy.csv", "objects.csv", "frame_000900.csv", "frame_001200.csv"};
 
