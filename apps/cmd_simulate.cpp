@@ -47,6 +47,7 @@
 #include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
 #include "ppohdem/error.hpp"
+#include "ppohdem/mesh/mesh_stats.hpp"
 #include "ppohdem/provenance.hpp"
 #include "ppohdem/dem/reference/reference_engine.hpp"
 
@@ -203,6 +204,19 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   if (root) std::fprintf(stderr, "simulate: %zu particles, %zu boundaries, dt %g s (limit %g s: %s), %ld steps\n",
                particle_count, scene.setup.boundaries.size(), scene.setup.dt,
                limit.limit, limit.reason.c_str(), scene.steps);
+  // An open object mesh: as `voxelize` says, its inside comes from the winding number
+  // (docs/objects.md "Exact contacts for mesh objects"), and users should know.
+  for (std::size_t k = 0; root && k < scene.objects.size(); ++k) {
+    const TriangleMesh* mesh = scene.objects[k].object->display_mesh();
+    if (mesh == nullptr) continue;
+    const MeshStats stats = compute_mesh_stats(*mesh);
+    if (stats.watertight()) continue;
+    std::fprintf(stderr,
+                 "warning: object %zu (%s): mesh is not watertight (%zu boundary edges, %zu non-manifold edges, %zu "
+                 "inconsistently oriented edges): inside and outside come from the generalized winding number\n",
+                 k, scene.objects[k].object->name().c_str(), stats.boundary_edges, stats.non_manifold_edges,
+                 stats.inconsistent_edges);
+  }
   if (root && scene.setup.dt > limit.limit) {
     std::fprintf(stderr, "warning: dt is above the stability limit (--force)\n");
   }
