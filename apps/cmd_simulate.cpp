@@ -330,17 +330,20 @@ void run_input(const SimulateOptions& options) {
     return;
   }
   if (options.initial) throw InputError("--initial applies to --compat ppohdem-1.0 only");
+  const auto read_start = std::chrono::steady_clock::now();
+  auto read_time = [&] {
+    return ReadTiming{std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count()};
+  };
   if (options.legacy || looks_like_legacy_input(options.input)) {
     dem::LegacySceneOptions legacy;
     legacy.data_length = options.data_length;
-    run_scene_file(options, dem::read_legacy_scene(options.input, legacy));
+    dem::Scene scene = dem::read_legacy_scene(options.input, legacy);
+    run_scene_file(options, std::move(scene), read_time());
     return;
   }
   if (options.data_length) throw InputError("--data-length applies to legacy inputs only");
-  const auto read_start = std::chrono::steady_clock::now();
   dem::Scene scene = dem::read_scene(options.input);
-  const ReadTiming read{std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count()};
-  run_scene_file(options, std::move(scene), read);
+  run_scene_file(options, std::move(scene), read_time());
 }
 
 }  // namespace
