@@ -93,12 +93,17 @@ TEST(ObjectsCli, ParticleOutsideTheDistanceGridFallsFreelyIsCountedAndWarnedOnce
     for (int j = 0; j < 9; ++j)
       for (int i = 0; i < 9; ++i) field.at(i, j, k) = grid.position(i, j, k).z();
   write_vtk_structured_points(dir / "plate.vtk", field, "distance", "test plate");
-  // Particle 1 rests on the plate; particle 2 is far outside the grid (x = 10 mm) at the same
-  // height, where the plate's field, extended, would hold it: it must fall through.
+  // Particle 1 rests on the plate; particle 2 is just outside the grid (x = 2.6 mm, the grid
+  // ends at 2 mm) and lower, where the plate's field, extended, would hold it: it must fall
+  // through, and it is counted, as the plate (a half-space) goes on beyond its grid (its
+  // inside nodes reach the grid's faces: docs/objects.md "Outside the grid"). Particle 3 is
+  // far outside (x = 10 mm): it falls too, and is not counted (farther than R from the plate's
+  // box, one cell beyond the grid).
   constexpr double kR = 0.5e-3;  // m
   std::ofstream(dir / "p.csv") << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius\n"
                                << "1,0,0,0.0005,0,0,0,0,0,0," << kR << "\n"
-                               << "2,0.01,0,0.0005,0,0,0,0,0,0," << kR << "\n";
+                               << "2,0.0026,0,0.0004,0,0,0,0,0,0," << kR << "\n"
+                               << "3,0.01,0,0.0005,0,0,0,0,0,0," << kR << "\n";
   constexpr long kSteps = 200;
   constexpr double kDt = 1e-6;  // s
   std::ofstream(dir / "scene.toml") << "[simulation]\ndt = 1e-6\nsteps = " << kSteps
@@ -126,7 +131,8 @@ TEST(ObjectsCli, ParticleOutsideTheDistanceGridFallsFreelyIsCountedAndWarnedOnce
   // for a constant acceleration: round-off of 200 steps, 1e-15 m), while particle 1 is held.
   const Particles end = read_particles_csv(dir / "out" / "final.csv");
   const double t = kSteps * kDt;
-  EXPECT_NEAR(end[1].position.z(), 0.0005 - 0.5 * 9.81 * t * t, 1e-15);
+  EXPECT_NEAR(end[1].position.z(), 0.0004 - 0.5 * 9.81 * t * t, 1e-15);
+  EXPECT_NEAR(end[2].position.z(), 0.0005 - 0.5 * 9.81 * t * t, 1e-15);
   EXPECT_GT(end[0].position.z(), 0.0005 - 0.5 * 9.81 * t * t + 1e-8);  // the plate pushed back
 }
 
