@@ -16,6 +16,9 @@
 #   --cores      "1", "2" or "1 2" (default): which of the two groups above to run
 #   --tracked    ppohdem books the contact energies ([simulation] energy_balance, its default);
 #                default untracked, as LIGGGHTS does not book them
+# On a machine shared with other work, run it with OMP_WAIT_POLICY=passive
+# OMPI_MCA_mpi_yield_when_idle=1 (both codes): spinning threads and ranks otherwise take the
+# cores from each other (docs/performance.md "Objects").
 # Times are the codes' own loop times (ppohdem "wall", LIGGGHTS "Loop time" summed over its two
 # runs); the CPU seconds (user + sys of all processes) are printed beside them, as the machine may
 # be shared. Writes OUT/results.tsv and OUT/results.md (default build-bench-objects/).
