@@ -2,7 +2,10 @@
 #include "ppohdem/dem/distance_field_object.hpp"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "ppohdem/error.hpp"
@@ -23,12 +26,18 @@ MotionProgram single_program(const RigidMotion& motion, const std::string& name,
   return MotionProgram::single(motion, start, stop);
 }
 
+// 1, 2, ...: every object of the process gets its own (poses_at's cache key).
+std::uint64_t next_serial() {
+  static std::atomic<std::uint64_t> counter{0};
+  return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
 }  // namespace
 
 DistanceFieldObject::DistanceFieldObject(ScalarField field, const RigidMotion& motion,
                                          std::string name, double start, double stop)
     : field_(std::move(field)), motion_(motion), program_(single_program(motion, name, start, stop)),
-      name_(std::move(name)), start_(start), stop_(stop) {
+      name_(std::move(name)), start_(start), stop_(stop), serial_(next_serial()) {
   check_field();
   index_extent();
 }
@@ -36,7 +45,7 @@ DistanceFieldObject::DistanceFieldObject(ScalarField field, const RigidMotion& m
 DistanceFieldObject::DistanceFieldObject(ScalarField field, MotionProgram program, std::string name)
     : field_(std::move(field)), program_(std::move(program)), name_(std::move(name)),
       start_(program_.segments().empty() ? 0.0 : program_.segments().front().start),
-      stop_(std::numeric_limits<double>::infinity()) {
+      stop_(std::numeric_limits<double>::infinity()), serial_(next_serial()) {
   motion_.centroid = program_.reference_point();
   check_field();
   index_extent();
@@ -57,6 +66,25 @@ void DistanceFieldObject::check_field() const {
 
 RigidTransform DistanceFieldObject::pose_at(double time) const { return program_.pose_at(time); }
 
+DistanceFieldObject::Poses DistanceFieldObject::poses_at(double time) const {
+  // A few entries per thread, so that several objects touched in turn each keep theirs.
+  struct Entry {
+    std::uint64_t object = 0;  // 0: empty (serials start at 1)
+    double time = 0.0;
+    Poses poses;
+  };
+  thread_local std::array<Entry, 4> cache{};
+  thread_local std::size_t next = 0;
+  for (const Entry& e : cache) {
+    if (e.object == serial_ && e.time == time) return e.poses;
+  }
+  Entry& e = cache[next];
+  next = (next + 1) % cache.size();
+  const RigidTransform pose = pose_at(time);
+  e = {serial_, time, {pose, pose.inverse()}};
+  return e.poses;
+}
+
 Vec3 DistanceFieldObject::centroid_at(double time) const { return program_.reference_point_at(time); }
 
 Vec3 DistanceFieldObject::point_velocity(const Vec3& x, double time) const {
@@ -65,8 +93,8 @@ Vec3 DistanceFieldObject::point_velocity(const Vec3& x, double time) const {
 
 std::optional<BoundaryContact> DistanceFieldObject::contact(const Vec3& centre, double radius,
                                                             double time) const {
-  const RigidTransform pose = pose_at(time);
-  const Vec3 local = pose.inverse().apply(centre);  // y = P^-1 x [m]
+  const auto [pose, inverse] = poses_at(time);
+  const Vec3 local = inverse.apply(centre);  // y = P^-1 x [m]
   const auto sample = sample_trilinear(field_, local);
   if (!sample) {
     if (within_reach(local, radius)) outside_grid_.fetch_add(1, std::memory_order_relaxed);

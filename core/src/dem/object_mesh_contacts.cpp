@@ -20,8 +20,8 @@ void DistanceFieldObject::contacts(const Vec3& centre, double radius, double tim
     return;
   }
   out.clear();
-  const RigidTransform pose = pose_at(time);
-  const Vec3 local = pose.inverse().apply(centre);  // y = P^-1 x [m]
+  const auto [pose, inverse] = poses_at(time);
+  const Vec3 local = inverse.apply(centre);  // y = P^-1 x [m]
   const auto sample = sample_trilinear(field_, local);
   if (!sample) {
     if (within_reach(local, radius)) outside_grid_.fetch_add(1, std::memory_order_relaxed);

@@ -52,6 +52,7 @@
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -91,6 +92,13 @@ class DistanceFieldObject final : public Boundary {
 
   /// The object's pose at time t [s]: object frame -> world.
   RigidTransform pose_at(double time) const;
+  /// P(t) and P(t)^-1 (the same bits as pose_at(t) and its inverse), kept per thread for the
+  /// last few objects and times: the contact calls of one force evaluation share them
+  /// (docs/objects.md "Far objects cost nothing").
+  struct Poses {
+    RigidTransform pose, inverse;
+  };
+  Poses poses_at(double time) const;
   /// Centroid in the world at time t [m] (the point forces' torques are taken about).
   Vec3 centroid_at(double time) const;
   /// Velocity of the object's material at world point x at time t [m/s].
@@ -144,6 +152,7 @@ class DistanceFieldObject final : public Boundary {
   std::optional<TriangleMesh> display_mesh_;
   std::shared_ptr<const MeshContactGeometry> contact_mesh_;
   mutable std::atomic<std::size_t> outside_grid_{0};
+  std::uint64_t serial_;  ///< unique per object in the process: the key of poses_at's cache
   /// slab_min_[a][i]: the smallest value of the nodes with index i along axis a [m].
   std::array<std::vector<double>, 3> slab_min_;
   BoundingBox field_box_;  ///< the inside nodes' box (see "Outside the grid") [m]
