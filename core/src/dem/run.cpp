@@ -13,6 +13,7 @@
 #include <sstream>
 #include <vector>
 
+#include "ppohdem/dem/insertion_run.hpp"
 #include "ppohdem/dem/load_log.hpp"
 #include "ppohdem/dem/output_writers.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
@@ -128,8 +129,11 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   std::vector<std::string> boundary_names;
   for (const auto& b : scene.setup.boundaries) boundary_names.push_back(b->describe());
   LoadLog load_log(out.dir / "loads.csv", header, boundary_names);
+  // [[insert]]: particles appended at their events (insertion_run.hpp), insertions.csv.
+  InsertionRun insertion(scene.setup, scene.inserts, out.dir / "insertions.csv", header, writer);
   auto flush_logs = [&] {
     if (!writer) return;
+    insertion.flush();
     energy.flush();
     if (!scene.objects.empty()) object_log.flush();
     if (log_loads) load_log.flush();
@@ -191,6 +195,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     c.run.energy_rows = energy.rows();
     c.run.object_rows = object_log.rows();
     c.run.frames = summary.frames;
+    c.insertion = insertion.record();
     return c;
   };
 
@@ -217,13 +222,22 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     object_log.set_rows(c.run.object_rows);
     summary.frames = static_cast<std::size_t>(c.run.frames);
     summary.initial = parse_energy_row(c.run.energy_rows.front(), source);
+    insertion.restore(c.insertion, source);
     if (log_loads && writer) load_log.continue_from_disk(engine.step_count());
     if (writer) std::fprintf(stderr, "simulate: restarted at step %ld (t = %g s) from a checkpoint of %s\n",
                  engine.step_count(), engine.time(), c.build.c_str());
   } else {
+    insertion.at_step(engine);  // the insertions of step 0 are part of the initial state
     summary.initial = engine.energies();
   }
   RunDiagnostics diagnostics(scene.setup, scene.checks, summary.initial, initial_overlap, options.time_step_limit);
+  // The energy balance counts the particles inserted after step 0 as energy brought in.
+  auto insert_at = [&] {
+    if (!insertion.active()) return;
+    insertion.at_step(engine);
+    diagnostics.set_input(insertion.input());
+  };
+  if (insertion.active()) diagnostics.set_input(insertion.input());  // a restart's so far
   // A failed check: keep what the run did, up to and including the failed step (energy rows
   // only while they are finite: no NaN in the outputs), and the state for inspection.
   auto stop = [&](const std::string& diagnosis) {
@@ -263,6 +277,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   if (options.at_step_boundary) options.at_step_boundary(first_step);
   for (long step = first_step + 1; step <= scene.steps; ++step) {
     engine.step();
+    insert_at();
     warn_outside();
     if (const auto diagnosis = diagnostics.check(engine)) stop(*diagnosis);
     if (step % energy_every == 0 || step == scene.steps) {
@@ -305,9 +320,15 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.final = engine.energies();
   summary.escaped = engine.escaped_count();
   summary.margins = diagnostics.margins();
+  summary.inserted = insertion.inserted();
+  summary.insert_failed = insertion.failed();
   const std::size_t particle_count = engine.particles().size();  // collective: on every rank
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
+  if (writer && insertion.active()) {
+    log << "simulate: inserted " << summary.inserted << " particles, " << summary.insert_failed
+        << " could not be inserted (insertions.csv)\n";
+  }
   flush_logs();
   const auto gather_start = clock::now();
   const Particles& final_particles = engine.particles();  // collective: on every rank
