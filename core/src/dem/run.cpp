@@ -211,6 +211,10 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
                    "bitwise continuation is promised only for the same build)\n",
                    c.build.c_str(), checkpoint_build_name().c_str());
     }
+    // Particles inserted before the checkpoint: appended first (restore_state sets their state).
+    if (const std::size_t now = engine.particles().size(); insertion.active() && c.engine.particles.size() > now) {
+      engine.insert_particles(Particles(c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now), c.engine.particles.end()));
+    }
     engine.restore_state(c.engine);
     check_object_poses(scene, c, engine.time(), source);
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
