@@ -326,6 +326,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.margins = diagnostics.margins();
   summary.inserted = insertion.inserted();
   summary.insert_failed = insertion.failed();
+  summary.inserted_energy = insertion.input();
   const std::size_t particle_count = engine.particles().size();  // collective: on every rank
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";

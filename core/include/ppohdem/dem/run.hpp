@@ -44,6 +44,8 @@ struct RunSummary {
   CheckMargins margins;  ///< largest overlap and energy growth seen (run_diagnostics.hpp)
   std::int64_t inserted = 0;       ///< particles inserted by [[insert]] (insertion_run.hpp)
   std::int64_t insert_failed = 0;  ///< particles [[insert]] asked for but found no place for
+  /// Kinetic, rotational and gravitational energy of the particles inserted after step 0 [J]
+  Energies inserted_energy;
 };
 
 struct RunOptions {
