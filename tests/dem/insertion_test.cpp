@@ -578,5 +578,34 @@ TEST(InsertScene, AFillNeedsNoParticlesTable) {
   EXPECT_NEAR(time_step_limit(scene.setup).limit, 0.2 * t_r, 1e-12 * t_r);
 }
 
+TEST(InsertScene, CollisionTimeOfAnEmptySceneUsesTheInsertedSizes) {
+  // The linear law's reference pair (two particles of the mean radius) comes from the sizes
+  // to come: a discrete 0.25 x 1 mm + 0.75 x 2 mm has the mean radius 1.75 mm.
+  const std::string text = R"([simulation]
+dt = 1e-6
+steps = 10
+[material]
+density = 2500.0
+young = 5.0e7
+poisson = 0.3
+restitution = 0.5
+friction = 0.5
+[contact]
+model = "linear"
+collision_time = 1e-4
+[[insert]]
+region = "box"
+lo = [0.0, 0.0, 0.0]
+hi = [0.03, 0.03, 0.03]
+count = 10
+sizes = [{ radius = 1.0e-3, probability = 0.25 }, { radius = 2.0e-3, probability = 0.75 }]
+)";
+  const Scene scene = fill_scene(ppohdem::test::scratch_dir(), text);
+  ASSERT_EQ(scene.inserts.size(), 1u);
+  const Material& m = scene.setup.material;
+  const auto expected = LinearSpringDashpot::from_collision_time(1e-4, m.mass(1.75e-3) / 2.0, m.restitution, m.friction, 2.0 / 7.0);
+  EXPECT_EQ(std::get<LinearSpringDashpot>(scene.setup.law).normal_stiffness(), expected.normal_stiffness());
+}
+
 }  // namespace
 }  // namespace ppohdem::dem

@@ -67,6 +67,16 @@ class SceneParser {
     } else if (root.contains("particles") || !root.contains("insert")) {
       read_particles(require_table(root, "particles"), s);
     }  // else: a scene that starts empty and fills by [[insert]]
+    if (const toml::node* inserts = root.get("insert")) {
+      const toml::array* list = inserts->as_array();
+      if (!list) fail(inserts, "[[insert]] must be an array of tables");
+      for (const toml::node& item : *list) {
+        const toml::table* t = item.as_table();
+        if (!t) fail(&item, "[[insert]] entries must be tables");
+        scene.inserts.push_back(read_insert(*t, s, scene.inserts.size()));
+      }
+      s.insert_probes = insert_size_probes(scene.inserts);
+    }
 
     if (model == "hertz-mindlin") {
       validate(s.material, true, name_);
@@ -99,7 +109,8 @@ class SceneParser {
         // Reference pair: two particles of the mean radius (of the first material), m* = m(R_mean)/2.
         double r_sum = 0.0;
         for (const Particle& p : s.particles) r_sum += p.radius;
-        const double r_mean = s.particles.empty() ? 1.0 : r_sum / static_cast<double>(s.particles.size());
+        double r_mean = s.particles.empty() ? 1.0 : r_sum / static_cast<double>(s.particles.size());
+        if (s.particles.empty() && !scene.inserts.empty()) r_mean = mean_insert_radius(scene.inserts);  // a fill
         s.law = LinearSpringDashpot::from_collision_time(*t_c, s.material.mass(r_mean) / 2.0,
                                                          s.material.restitution, s.material.friction, ratio);
       }
@@ -110,17 +121,6 @@ class SceneParser {
     // unchanged bit for bit).
     const bool damping = optional_bool(contact, "contact", "tangential_damping").value_or(model == "hooke");
     std::visit([&](auto& law) { law.set_tangential_damping(damping); }, s.law);
-
-    if (const toml::node* inserts = root.get("insert")) {
-      const toml::array* list = inserts->as_array();
-      if (!list) fail(inserts, "[[insert]] must be an array of tables");
-      for (const toml::node& item : *list) {
-        const toml::table* t = item.as_table();
-        if (!t) fail(&item, "[[insert]] entries must be tables");
-        scene.inserts.push_back(read_insert(*t, s, scene.inserts.size()));
-      }
-      s.insert_probes = insert_size_probes(scene.inserts);
-    }
 
     if (const toml::node* walls = root.get("wall")) {
       const toml::array* list = walls->as_array();
@@ -509,6 +509,22 @@ class SceneParser {
     std::string known;
     for (const std::string& n : s.material_names) known += (known.empty() ? "" : ", ") + n;
     fail(node, what + ": unknown material '" + name + "' (the scene has: " + known + ")");
+  }
+
+  /// The mean radius by number of the [[insert]] tables' distributions, averaged over the
+  /// tables (the reference pair of collision_time in a scene that starts empty) [m].
+  static double mean_insert_radius(const std::vector<InsertSpec>& specs) {
+    double sum = 0.0;
+    for (const InsertSpec& spec : specs) {
+      const InsertSizes& z = spec.sizes;
+      double mean = 0.5 * (z.r_min + z.r_max);
+      if (z.kind == InsertSizes::Kind::kDiscrete) {
+        mean = 0.0;
+        for (const InsertSize& e : z.entries) mean += e.probability * e.radius;
+      }
+      sum += mean;
+    }
+    return sum / static_cast<double>(specs.size());
   }
 
   /// One [[insert]] table (insertion.hpp; docs/formats.md "[[insert]]").

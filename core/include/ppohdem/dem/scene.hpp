@@ -15,7 +15,7 @@
 ///                friction of that pair (otherwise min of the two materials' values)
 ///   [contact]    model = "hertz-mindlin" | "linear" | "hooke";
 ///                linear only: stiffness [N/m] or collision_time [s] (for two particles of
-///                the mean radius), tangential_stiffness_ratio (default 2/7);
+///                the mean radius; a scene that starts empty: of the [[insert]] sizes' mean), tangential_stiffness_ratio (default 2/7);
 ///                hooke only: characteristic_velocity [m/s] (required),
 ///                tangential_stiffness_ratio (default 1); tangential_damping = true | false
 ///                (default true for hooke, false otherwise; contact_law.hpp)
