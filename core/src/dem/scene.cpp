@@ -527,7 +527,7 @@ class SceneParser {
     return sum / static_cast<double>(specs.size());
   }
 
-  /// One [[insert]] table (insertion.hpp; docs/formats.md "[[insert]]").
+  /// One [[insert]] table (insertion.hpp; docs/formats.md "Scene tables `[[insert]]` and `insertions.csv`").
   InsertSpec read_insert(const toml::table& t, const SimulationSetup& s, std::size_t index) const {
     check_keys(t, "insert", {"name", "region", "lo", "hi", "point", "axis", "radius", "length", "count", "rate", "start",
                              "every", "every_steps", "stop", "total", "radius_min", "radius_max", "sizes", "material",

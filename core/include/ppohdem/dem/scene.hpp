@@ -36,7 +36,8 @@
 ///                axis (any length, normalised), omega [rad/s] about axis through centroid
 ///                [m] (default: the grid's centre), start [s] (default 0), stop [s]
 ///                (default never), name (default "object N"), material (as [[wall]])
-///   [[insert]]   particle insertion (insertion.hpp; docs/formats.md "[[insert]]"): region =
+///   [[insert]]   particle insertion (insertion.hpp; every key: docs/formats.md
+///                "Scene tables `[[insert]]` and `insertions.csv`"): region =
 ///                "box" (lo, hi [m]) | "cylinder" (point, axis, radius, length [m]); count
 ///                per event or rate [1/s]; start, every, stop [s] (or every_steps), total;
 ///                radius [m] | radius_min, radius_max [m] | sizes = [{radius, probability,
