@@ -463,6 +463,58 @@ TEST(InsertRun, CountsFollowTheScheduleAndEnginesAgreeBitwise) {
   }
 }
 
+/// The fill scene onto a bed of 1,152 particles (a jittered lattice), inserting every 100
+/// steps for 400 steps: from kParallelMin = 1024 particles on, the fast engine's loops really
+/// run on several threads.
+std::string bed_fill_text() {
+  std::string text = kFill;
+  text.replace(text.find("steps = 2400"), 12, "steps = 400");
+  text.insert(text.find("[[wall]]"),
+              "[particles]\ngenerator = \"lattice\"\nbox_min = [0.001, 0.001, 0.001]\nbox_max = [0.029, 0.029, 0.0195]\n"
+              "count = 1152\nradius = 1.0e-3\nseed = 4\njitter = 0.1\nmaterial = \"a\"\n\n");
+  text.replace(text.find("lo = [0.0, 0.0, 0.004]"), 22, "lo = [0.0, 0.0, 0.022]");
+  text.replace(text.find("hi = [0.03, 0.03, 0.012]"), 24, "hi = [0.03, 0.03, 0.030]");
+  text.replace(text.find("every_steps = 200"), 17, "every_steps = 100");
+  return text;
+}
+
+template <class Engine>
+Particles run_bed_fill(const fs::path& dir, int threads) {
+#ifdef PPOHDEM_WITH_OPENMP
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(threads);
+#else
+  (void)threads;
+#endif
+  fs::create_directories(dir);
+  const Scene scene = fill_scene(dir, bed_fill_text());
+  Engine engine(scene.setup);
+  std::ostringstream log;
+  const RunSummary summary = run_scene(engine, scene, "test", log);
+#ifdef PPOHDEM_WITH_OPENMP
+  omp_set_num_threads(before);
+#endif
+  // Insert 0 at steps 0, 100, ..., 400, 3.5 per event: due 3, 7, 10, 14, 17; insert 1 starts
+  // at step 571, after the end.
+  EXPECT_EQ(summary.inserted, 17);
+  return engine.particles();
+}
+
+TEST(InsertRun, OntoABedOfManyParticlesThreadsAndEnginesAgreeBitwise) {
+  const fs::path root = ppohdem::test::scratch_dir();
+  const Particles reference = run_bed_fill<reference::ReferenceEngine>(root / "reference", 1);
+  ASSERT_EQ(reference.size(), 1152u + 17u);
+  EXPECT_EQ(reference.back().id, 1169);  // ids after the bed's 1..1152, in insertion order
+  for (const int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    const fs::path dir = root / ("fast" + std::to_string(threads));
+    EXPECT_TRUE(same_bits(run_bed_fill<fast::FastEngine>(dir, threads), reference));
+    for (const char* file : {"energy.csv", "insertions.csv"}) {
+      EXPECT_EQ(body(dir / "out" / file), body(root / "reference" / "out" / file)) << file;
+    }
+  }
+}
+
 TEST(InsertRun, RestartAfterSomeInsertionsContinuesBitwise) {
   const fs::path root = ppohdem::test::scratch_dir();
   for (const bool fast_engine : {true, false}) {
