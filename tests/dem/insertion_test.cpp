@@ -545,6 +545,18 @@ TEST(InsertRun, RestartAfterSomeInsertionsContinuesBitwise) {
     EXPECT_EQ(second.restart->insertion.counters.at(1).events, 2u);
     const Particles continued = run(parts, second, 2400);
     EXPECT_TRUE(same_bits(continued, uninterrupted));
+    // A checkpoint without the scene's [[insert]] tables (another scene, or format version 3)
+    // is refused by name.
+    RunOptions other;
+    Checkpoint without = *second.restart;
+    without.insertion = InsertionRecord{};
+    other.restart = std::make_shared<const Checkpoint>(without);
+    try {
+      run(root / "other", other, 2400);
+      ADD_FAILURE() << "restart accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("checkpoint: 0 [[insert]] tables, the scene has 2"), std::string::npos) << e.what();
+    }
     for (const char* file : {"final.csv", "energy.csv", "insertions.csv"}) {
       EXPECT_EQ(body(parts / "out" / file), body(whole / "out" / file)) << file;
     }

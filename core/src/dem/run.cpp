@@ -211,6 +211,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
                    "bitwise continuation is promised only for the same build)\n",
                    c.build.c_str(), checkpoint_build_name().c_str());
     }
+    insertion.restore(c.insertion, source);  // first: a checkpoint of other [[insert]] tables is refused by name
     // Particles inserted before the checkpoint: appended first (restore_state sets their state).
     if (const std::size_t now = engine.particles().size(); insertion.active() && c.engine.particles.size() > now) {
       engine.insert_particles(Particles(c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now), c.engine.particles.end()));
@@ -226,7 +227,6 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     object_log.set_rows(c.run.object_rows);
     summary.frames = static_cast<std::size_t>(c.run.frames);
     summary.initial = parse_energy_row(c.run.energy_rows.front(), source);
-    insertion.restore(c.insertion, source);
     if (log_loads && writer) load_log.continue_from_disk(engine.step_count());
     if (writer) std::fprintf(stderr, "simulate: restarted at step %ld (t = %g s) from a checkpoint of %s\n",
                  engine.step_count(), engine.time(), c.build.c_str());
