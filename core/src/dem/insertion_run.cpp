@@ -100,8 +100,9 @@ void InsertionRun::flush() const {
 
 void InsertionRun::restore(const InsertionRecord& record, const std::string& source) {
   if (record.counters.size() != specs_.size()) {
-    throw InputError(source, 0, "checkpoint: " + std::to_string(record.counters.size()) + " [[insert]] tables, the scene has " +
-                                    std::to_string(specs_.size()) + " (the scene was changed?)");
+    throw InputError(source, 0, "checkpoint: " + std::to_string(record.counters.size()) +
+                                    " [[insert]] tables, the scene has " + std::to_string(specs_.size()) +
+                                    " (the scene was changed?)");
   }
   record_ = record;
 }

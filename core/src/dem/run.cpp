@@ -211,10 +211,11 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
                    "bitwise continuation is promised only for the same build)\n",
                    c.build.c_str(), checkpoint_build_name().c_str());
     }
-    insertion.restore(c.insertion, source);  // first: a checkpoint of other [[insert]] tables is refused by name
+    insertion.restore(c.insertion, source);  // first: other [[insert]] tables are refused by name
     // Particles inserted before the checkpoint: appended first (restore_state sets their state).
     if (const std::size_t now = engine.particles().size(); insertion.active() && c.engine.particles.size() > now) {
-      engine.insert_particles(Particles(c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now), c.engine.particles.end()));
+      const auto first_new = c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now);
+      engine.insert_particles(Particles(first_new, c.engine.particles.end()));
     }
     engine.restore_state(c.engine);
     check_object_poses(scene, c, engine.time(), source);
