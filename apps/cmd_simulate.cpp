@@ -263,7 +263,8 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
         std::llround(options.comm->sum_over_ranks(static_cast<double>(o.object->outside_grid_count())))));
   }
   if (!root) return;  // rank 0 reports
-  const double e0 = s.initial.total();
+  // Particles inserted after step 0 brought energy in ([[insert]]): counted as input.
+  const double e0 = s.initial.total() + s.inserted_energy.total();
   const double e1 = s.final.total();
   std::printf("engine %s\n", engine->name().c_str());
   std::printf("steps %ld, time %.6g s, wall %.3f s\n", s.steps, engine->time(), s.wall_seconds);
@@ -272,8 +273,9 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
               s.final.kinetic, s.final.rotational, s.final.gravitational, s.final.elastic,
               s.final.dissipated, s.final.boundary_work);
   if (scene.setup.energy_balance) {
-    std::printf("energy balance: total %.9e -> %.9e J (relative change %.2e)\n", e0, e1,
-                e0 != 0.0 ? (e1 - e0) / std::abs(e0) : e1 - e0);
+    std::printf("energy balance: total %.9e -> %.9e J (relative change %.2e)%s\n", e0, e1,
+                e0 != 0.0 ? (e1 - e0) / std::abs(e0) : e1 - e0,
+                s.inserted > 0 ? " (initial + the energy of the particles inserted after step 0)" : "");
   } else {
     std::printf("energy balance: not tracked ([simulation] energy_balance = false)\n");
   }

@@ -58,6 +58,10 @@ Checkpoint sample() {
   e.boundary_power = -3.5e-7;
   e.engine_private = {0, 255, 17};
   c.objects.push_back({"ball", Quat(0.5, 0.5, -0.5, 0.5), Vec3(1, 2, 3), 42});
+  c.insertion.counters = {{3, 400, 30, 28, 2}, {0, 0, 0, 0, 0}};
+  c.insertion.kinetic = 0.125;
+  c.insertion.gravitational = -1e-300;
+  c.insertion.rows = {"0,0,0,10,10,0,10,0"};
   c.run.energy_rows = {"0,0,1,2,3,4,5,6", "10,1e-4,1,2,3,4,5,6"};
   c.run.object_rows = {"0,0,0,..."};
   c.run.frames = 3;
@@ -133,6 +137,31 @@ TEST(CheckpointFormat, RoundTripKeepsEveryBit) {
   EXPECT_EQ(d.run.energy_rows, c.run.energy_rows);
   EXPECT_EQ(d.run.object_rows, c.run.object_rows);
   EXPECT_EQ(d.run.frames, 3u);
+  ASSERT_EQ(d.insertion.counters.size(), 2u);
+  EXPECT_EQ(d.insertion.counters[0].draws, 400u);
+  EXPECT_EQ(d.insertion.counters[0].failed, 2);
+  EXPECT_EQ(d.insertion.kinetic, 0.125);
+  EXPECT_EQ(d.insertion.gravitational, -1e-300);
+  EXPECT_EQ(d.insertion.rows, c.insertion.rows);
+}
+
+TEST(CheckpointFormat, Version3WithoutInsertionsIsStillRead) {
+  // A version-3 file is a version-4 file without the insertion record (which, empty, is the
+  // last 40 bytes of the payload: u64 0, 3 x f64 0, u64 0): cut them, fix length and CRCs.
+  Checkpoint c = sample();
+  c.insertion = InsertionRecord{};
+  std::vector<std::uint8_t> b = encode_checkpoint(c);
+  const std::size_t header = header_length(b);
+  b.erase(b.end() - 4 - 40, b.end() - 4);
+  write_u32(b, 8, 3);
+  std::uint64_t payload = b.size() - header - 8;
+  for (int k = 0; k < 8; ++k) b[header - 8 + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(payload >> (8 * k));
+  write_u32(b, header, crc32_of(b.data(), header));
+  write_u32(b, b.size() - 4, crc32_of(b.data() + header + 4, static_cast<std::size_t>(payload)));
+  const Checkpoint d = decode_checkpoint(b, "v3");
+  EXPECT_EQ(d.run.frames, 3u);
+  EXPECT_TRUE(d.insertion.counters.empty());
+  EXPECT_EQ(d.engine.particles.size(), 3u);
 }
 
 TEST(CheckpointFormat, LayoutIsLittleEndianWithMagicVersionAndBuild) {
@@ -196,8 +225,8 @@ TEST(CheckpointFormat, EveryTruncationIsRefused) {
 
 TEST(CheckpointFormat, AnotherFormatVersionIsRefusedByName) {
   // Older layouts (1: before the particles' material index, 2: before the rolling spring) and
-  // a newer one.
-  for (const std::uint32_t version : {1u, kCheckpointFormatVersion - 1, kCheckpointFormatVersion + 1}) {
+  // a newer one (3, before the insertion record, is still read: test above).
+  for (const std::uint32_t version : {1u, kOldestCheckpointFormatVersion - 1, kCheckpointFormatVersion + 1}) {
     std::vector<std::uint8_t> b = encode_checkpoint(sample());
     write_u32(b, 8, version);  // a consistent header (its CRC recomputed)
     write_u32(b, header_length(b), crc32_of(b.data(), header_length(b)));
@@ -206,7 +235,9 @@ TEST(CheckpointFormat, AnotherFormatVersionIsRefusedByName) {
                            checkpoint_build_name()),
               std::string::npos)
         << message;
-    EXPECT_NE(message.find("reads format version " + std::to_string(kCheckpointFormatVersion)), std::string::npos)
+    EXPECT_NE(message.find("reads format versions " + std::to_string(kOldestCheckpointFormatVersion) + " to " +
+                           std::to_string(kCheckpointFormatVersion)),
+              std::string::npos)
         << message;
   }
 }

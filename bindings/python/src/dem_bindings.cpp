@@ -231,6 +231,8 @@ void bind_dem(py::module_& m) {
             d["wall_seconds"] = s.wall_seconds;
             d["frames"] = s.frames;
             d["escaped"] = s.escaped;
+            d["inserted"] = s.inserted;            // [[insert]] (docs/objects.md "Particle insertion")
+            d["insert_failed"] = s.insert_failed;
             d["output_dir"] = scene.output.dir;
             d["log"] = log.str();
             return d;

@@ -134,3 +134,22 @@ frequency = 50.0
     d["object"][0]["motion"][0]["omega"] = 1.0
     with pytest.raises(pd.InputError, match="omega"):
         pd.Scene.from_dict(d)
+
+
+def test_insert_tables_act_in_run_scene(tmp_path):
+    # [[insert]] (docs/objects.md "Particle insertion"): a scene without particles filled by
+    # run_scene; 20 asked for in one event at step 0, counted in the summary and insertions.csv.
+    d = small_bed()
+    del d["particles"]
+    d["insert"] = [{"region": "box", "lo": [0.0, 0.0, 0.0], "hi": [0.01, 0.01, 0.01], "count": 20,
+                    "radius": 0.0008, "seed": 5}]
+    d["output"] = {"dir": str(tmp_path / "out"), "progress": False}
+    scene = pd.Scene.from_dict(d)
+    assert scene.particle_count == 0
+    eng = pd.Engine(scene, engine="fast")
+    summary = eng.run_scene()
+    assert summary["inserted"] + summary["insert_failed"] == 20
+    assert summary["inserted"] == len(eng) > 0
+    rows = [r for r in (tmp_path / "out" / "insertions.csv").read_text().splitlines() if not r.startswith("#")]
+    assert rows[0] == "step,time,insert,requested,inserted,failed,total_inserted,total_failed"
+    assert rows[1].split(",")[3] == "20"

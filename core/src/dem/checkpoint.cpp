@@ -102,7 +102,7 @@ class Reader {
   std::size_t base_;  // offset of data_ in the file, for messages
 };
 
-// ---- payload, format version 3 -----------------------------------------------------------
+// ---- payload, format version 4 -----------------------------------------------------------
 //   str provenance, str scene
 //   engine: str name, i64 step, f64 dt,
 //           u64 n, n x particle {i64 id, vec position, vec velocity, vec angular_velocity,
@@ -118,6 +118,9 @@ class Reader {
 //           u64 n, n bytes engine_private
 //   objects: u64 n, n x {str name, f64 qw, qx, qy, qz, vec translation, u64 outside_grid}
 //   run: u64 n, n x str energy row; u64 n, n x str object row; u64 frames
+//   insertion (version 4): u64 n, n x {u64 events, u64 draws, i64 requested, i64 inserted,
+//              i64 failed}; f64 kinetic, rotational, gravitational; u64 n, n x str row
+// Version 3 was version 4 without the insertion record.
 // Version 2 was version 3 without the rolling spring; version 1 also without the particles'
 // material (one-material scenes only).
 constexpr std::size_t kParticleBytes = 8 + 16 * 8 + 4;
@@ -180,9 +183,23 @@ void encode_payload(Writer& w, const Checkpoint& c) {
   w.u64(c.run.object_rows.size());
   for (const std::string& row : c.run.object_rows) w.str(row);
   w.u64(c.run.frames);
+  const InsertionRecord& in = c.insertion;
+  w.u64(in.counters.size());
+  for (const InsertCounters& k : in.counters) {
+    w.u64(k.events);
+    w.u64(k.draws);
+    w.i64(k.requested);
+    w.i64(k.inserted);
+    w.i64(k.failed);
+  }
+  w.f64(in.kinetic);
+  w.f64(in.rotational);
+  w.f64(in.gravitational);
+  w.u64(in.rows.size());
+  for (const std::string& row : in.rows) w.str(row);
 }
 
-void decode_payload(Reader& r, Checkpoint& c) {
+void decode_payload(Reader& r, Checkpoint& c, std::uint32_t version) {
   c.provenance = r.str("provenance");
   c.scene = r.str("scene name");
   EngineState& e = c.engine;
@@ -247,6 +264,22 @@ void decode_payload(Reader& r, Checkpoint& c) {
   c.run.object_rows.resize(r.count(8, "object rows"));
   for (std::string& row : c.run.object_rows) row = r.str("object row");
   c.run.frames = r.u64("frame count");
+  if (version >= 4) {
+    InsertionRecord& in = c.insertion;
+    in.counters.resize(r.count(40, "insert counters"));
+    for (InsertCounters& k : in.counters) {
+      k.events = r.u64("insert events");
+      k.draws = r.u64("insert draws");
+      k.requested = r.i64("insert requested");
+      k.inserted = r.i64("insert inserted");
+      k.failed = r.i64("insert failed");
+    }
+    in.kinetic = r.f64("inserted energy");
+    in.rotational = r.f64("inserted energy");
+    in.gravitational = r.f64("inserted energy");
+    in.rows.resize(r.count(8, "insertion rows"));
+    for (std::string& row : in.rows) row = r.str("insertion row");
+  }
   if (!r.done()) r.fail("unexpected bytes after the last field");
 }
 
@@ -299,10 +332,11 @@ Checkpoint decode_checkpoint(const std::vector<std::uint8_t>& bytes, const std::
   if (crc32_of(bytes.data(), header_length) != header_crc) {
     throw InputError(source, 0, "checkpoint header is corrupted (CRC-32 mismatch); the file was damaged");
   }
-  if (version != kCheckpointFormatVersion) {
+  if (version < kOldestCheckpointFormatVersion || version > kCheckpointFormatVersion) {
     throw InputError(source, 0, "checkpoint format version " + std::to_string(version) + ", written by " +
                                     build + "; this build (" + checkpoint_build_name() +
-                                    ") reads format version " + std::to_string(kCheckpointFormatVersion) +
+                                    ") reads format versions " + std::to_string(kOldestCheckpointFormatVersion) +
+                                    " to " + std::to_string(kCheckpointFormatVersion) +
                                     " only: restart with the build that wrote it");
   }
   const std::size_t payload_start = h.position();
@@ -322,7 +356,7 @@ Checkpoint decode_checkpoint(const std::vector<std::uint8_t>& bytes, const std::
   Checkpoint c;
   c.build = build;
   Reader r(payload, length, source, payload_start);
-  decode_payload(r, c);
+  decode_payload(r, c, version);
   return c;
 }
 

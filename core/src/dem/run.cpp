@@ -13,6 +13,7 @@
 #include <sstream>
 #include <vector>
 
+#include "ppohdem/dem/insertion_run.hpp"
 #include "ppohdem/dem/load_log.hpp"
 #include "ppohdem/dem/output_writers.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
@@ -128,8 +129,11 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   std::vector<std::string> boundary_names;
   for (const auto& b : scene.setup.boundaries) boundary_names.push_back(b->describe());
   LoadLog load_log(out.dir / "loads.csv", header, boundary_names);
+  // [[insert]]: particles appended at their events (insertion_run.hpp), insertions.csv.
+  InsertionRun insertion(scene.setup, scene.inserts, out.dir / "insertions.csv", header, writer);
   auto flush_logs = [&] {
     if (!writer) return;
+    insertion.flush();
     energy.flush();
     if (!scene.objects.empty()) object_log.flush();
     if (log_loads) load_log.flush();
@@ -192,6 +196,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     c.run.energy_rows = energy.rows();
     c.run.object_rows = object_log.rows();
     c.run.frames = summary.frames;
+    c.insertion = insertion.record();
     return c;
   };
 
@@ -206,6 +211,12 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
       std::fprintf(stderr, "simulate: note: the checkpoint was written by %s, this is %s (same format; "
                    "bitwise continuation is promised only for the same build)\n",
                    c.build.c_str(), checkpoint_build_name().c_str());
+    }
+    insertion.restore(c.insertion, source);  // first: other [[insert]] tables are refused by name
+    // Particles inserted before the checkpoint: appended first (restore_state sets their state).
+    if (const std::size_t now = engine.particles().size(); insertion.active() && c.engine.particles.size() > now) {
+      const auto first_new = c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now);
+      engine.insert_particles(Particles(first_new, c.engine.particles.end()));
     }
     engine.restore_state(c.engine);
     check_object_poses(scene, c, engine.time(), source);
@@ -222,9 +233,17 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     if (writer) std::fprintf(stderr, "simulate: restarted at step %ld (t = %g s) from a checkpoint of %s\n",
                  engine.step_count(), engine.time(), c.build.c_str());
   } else {
+    insertion.at_step(engine);  // the insertions of step 0 are part of the initial state
     summary.initial = engine.energies();
   }
   RunDiagnostics diagnostics(scene.setup, scene.checks, summary.initial, initial_overlap, options.time_step_limit);
+  // The energy balance counts the particles inserted after step 0 as energy brought in.
+  auto insert_at = [&] {
+    if (!insertion.active()) return;
+    insertion.at_step(engine);
+    diagnostics.set_input(insertion.input());
+  };
+  if (insertion.active()) diagnostics.set_input(insertion.input());  // a restart's so far
   // A failed check: keep what the run did, up to and including the failed step (energy rows
   // only while they are finite: no NaN in the outputs), and the state for inspection.
   auto stop = [&](const std::string& diagnosis) {
@@ -264,6 +283,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   if (options.at_step_boundary) options.at_step_boundary(first_step);
   for (long step = first_step + 1; step <= scene.steps; ++step) {
     engine.step();
+    insert_at();
     warn_outside();
     if (const auto diagnosis = diagnostics.check(engine)) stop(*diagnosis);
     if (step % energy_every == 0 || step == scene.steps) {
@@ -306,9 +326,16 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.final = engine.energies();
   summary.escaped = engine.escaped_count();
   summary.margins = diagnostics.margins();
+  summary.inserted = insertion.inserted();
+  summary.insert_failed = insertion.failed();
+  summary.inserted_energy = insertion.input();
   const std::size_t particle_count = engine.particles().size();  // collective: on every rank
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
+  if (writer && insertion.active()) {
+    log << "simulate: inserted " << summary.inserted << " particles, " << summary.insert_failed
+        << " could not be inserted (insertions.csv)\n";
+  }
   flush_logs();
   const auto gather_start = clock::now();
   const Particles& final_particles = engine.particles();  // collective: on every rank

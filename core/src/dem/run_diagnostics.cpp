@@ -241,7 +241,10 @@ std::optional<std::string> RunDiagnostics::check_overlap(const DemEngine& engine
 
 std::optional<std::string> RunDiagnostics::check_energy(const DemEngine& engine, const Energies& e) {
   if (!setup_.energy_balance) return std::nullopt;  // [simulation] energy_balance = false: no balance
-  const Energies& e0 = initial_;
+  Energies e0 = initial_;  // with the inserted particles' energy as if present from the start
+  e0.kinetic += input_.kinetic;
+  e0.rotational += input_.rotational;
+  e0.gravitational += input_.gravitational;
   const double scale = e0.kinetic + e0.rotational + e0.elastic + e.kinetic + e.rotational + e.elastic +
                        std::abs(e.dissipated) + std::abs(e.boundary_work) +
                        std::abs(e.gravitational - e0.gravitational) +

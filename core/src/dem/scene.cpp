@@ -37,7 +37,8 @@ class SceneParser {
 
   Scene parse() {
     toml::table root = parse_toml();
-    check_keys(root, "", {"simulation", "material", "material_pair", "contact", "particles", "wall", "object", "output", "checks"});
+    check_keys(root, "", {"simulation", "material", "material_pair", "contact", "particles", "wall", "object", "insert",
+                          "output", "checks"});
     Scene scene;
     SimulationSetup& s = scene.setup;
     s.source = name_;
@@ -63,8 +64,18 @@ class SceneParser {
     read_materials(root, model == "hertz-mindlin" || model == "hooke", s);
     if (given_particles_) {
       read_given_particles(root, s);
-    } else {
+    } else if (root.contains("particles") || !root.contains("insert")) {
       read_particles(require_table(root, "particles"), s);
+    }  // else: a scene that starts empty and fills by [[insert]]
+    if (const toml::node* inserts = root.get("insert")) {
+      const toml::array* list = inserts->as_array();
+      if (!list) fail(inserts, "[[insert]] must be an array of tables");
+      for (const toml::node& item : *list) {
+        const toml::table* t = item.as_table();
+        if (!t) fail(&item, "[[insert]] entries must be tables");
+        scene.inserts.push_back(read_insert(*t, s, scene.inserts.size()));
+      }
+      s.insert_probes = insert_size_probes(scene.inserts);
     }
 
     if (model == "hertz-mindlin") {
@@ -98,7 +109,8 @@ class SceneParser {
         // Reference pair: two particles of the mean radius (of the first material), m* = m(R_mean)/2.
         double r_sum = 0.0;
         for (const Particle& p : s.particles) r_sum += p.radius;
-        const double r_mean = s.particles.empty() ? 1.0 : r_sum / static_cast<double>(s.particles.size());
+        double r_mean = s.particles.empty() ? 1.0 : r_sum / static_cast<double>(s.particles.size());
+        if (s.particles.empty() && !scene.inserts.empty()) r_mean = mean_insert_radius(scene.inserts);  // a fill
         s.law = LinearSpringDashpot::from_collision_time(*t_c, s.material.mass(r_mean) / 2.0,
                                                          s.material.restitution, s.material.friction, ratio);
       }
@@ -499,6 +511,148 @@ class SceneParser {
     fail(node, what + ": unknown material '" + name + "' (the scene has: " + known + ")");
   }
 
+  /// The mean radius by number of the [[insert]] tables' distributions, averaged over the
+  /// tables (the reference pair of collision_time in a scene that starts empty) [m].
+  static double mean_insert_radius(const std::vector<InsertSpec>& specs) {
+    double sum = 0.0;
+    for (const InsertSpec& spec : specs) {
+      const InsertSizes& z = spec.sizes;
+      double mean = 0.5 * (z.r_min + z.r_max);
+      if (z.kind == InsertSizes::Kind::kDiscrete) {
+        mean = 0.0;
+        for (const InsertSize& e : z.entries) mean += e.probability * e.radius;
+      }
+      sum += mean;
+    }
+    return sum / static_cast<double>(specs.size());
+  }
+
+  /// One [[insert]] table (insertion.hpp; docs/formats.md "Scene tables `[[insert]]` and `insertions.csv`").
+  InsertSpec read_insert(const toml::table& t, const SimulationSetup& s, std::size_t index) const {
+    check_keys(t, "insert", {"name", "region", "lo", "hi", "point", "axis", "radius", "length", "count", "rate", "start",
+                             "every", "every_steps", "stop", "total", "radius_min", "radius_max", "sizes", "material",
+                             "velocity", "angular_velocity", "seed", "attempts"});
+    InsertSpec spec;
+    spec.name = t.contains("name") ? require_string(t, "insert", "name") : "insert " + std::to_string(index);
+    auto positive = [&](const char* key, double v) {
+      if (!(v > 0.0)) fail(t.get(key), std::string("[[insert]] ") + key + ": expected > 0");
+      return v;
+    };
+    // Region.
+    const std::string region = require_string(t, "insert", "region");
+    InsertRegion& r = spec.region;
+    if (region == "box") {
+      for (const char* key : {"point", "axis", "length"}) {
+        if (t.contains(key)) fail(t.get(key), std::string("[[insert]] ") + key + " applies to region = \"cylinder\"");
+      }
+      r.kind = InsertRegion::Kind::kBox;
+      r.lo = *require_vec3(t, "insert", "lo");
+      r.hi = *require_vec3(t, "insert", "hi");
+      if (!(r.lo.array() < r.hi.array()).all()) fail(t.get("hi"), "[[insert]] box: expected lo < hi on every axis");
+    } else if (region == "cylinder") {
+      for (const char* key : {"lo", "hi"}) {
+        if (t.contains(key)) fail(t.get(key), std::string("[[insert]] ") + key + " applies to region = \"box\"");
+      }
+      r.kind = InsertRegion::Kind::kCylinder;
+      r.point = *require_vec3(t, "insert", "point");
+      const Vec3 axis = *require_vec3(t, "insert", "axis");
+      if (!(axis.norm() > 0.0)) fail(t.get("axis"), "[[insert]] axis must not be zero");
+      r.axis = axis.normalized();
+      r.radius = positive("radius", require_number(t, "insert", "radius"));
+      r.length = positive("length", require_number(t, "insert", "length"));
+    } else {
+      fail(t.get("region"), "[[insert]] region: expected \"box\" or \"cylinder\", found \"" + region + "\"");
+    }
+    // Sizes: radius (a number here, the cylinder's in a cylinder), radius_min/radius_max, or sizes.
+    InsertSizes& z = spec.sizes;
+    auto material_of = [&](const toml::table& table, const char* what) -> std::uint16_t {
+      const toml::node* m = table.get("material");
+      if (!m) return 0;
+      if (!m->is_string()) fail(m, std::string(what) + " material: expected a name");
+      return material_index(m, *m->value<std::string>(), s, what);
+    };
+    const bool has_uniform = t.contains("radius_min") || t.contains("radius_max");
+    const bool has_sizes = t.contains("sizes");
+    const bool has_constant = r.kind == InsertRegion::Kind::kBox && t.contains("radius");
+    if (int(has_uniform) + int(has_sizes) + int(has_constant) != 1) {
+      fail(&t, "[[insert]] needs exactly one size distribution: radius = R (box regions; a cylinder's radius is "
+               "its own), radius_min and radius_max (uniform), or sizes = [{radius, probability, material}, ...]");
+    }
+    if (has_constant) {
+      z.kind = InsertSizes::Kind::kConstant;
+      z.r_min = z.r_max = positive("radius", require_number(t, "insert", "radius"));
+      z.material = material_of(t, "[[insert]]");
+    } else if (has_uniform) {
+      z.kind = InsertSizes::Kind::kUniform;
+      z.r_min = positive("radius_min", require_number(t, "insert", "radius_min"));
+      z.r_max = positive("radius_max", require_number(t, "insert", "radius_max"));
+      if (!(z.r_max >= z.r_min)) fail(t.get("radius_max"), "[[insert]] radius_max must be >= radius_min");
+      z.material = material_of(t, "[[insert]]");
+    } else {
+      if (t.contains("material")) fail(t.get("material"), "[[insert]] material: with sizes, give each entry its material");
+      z.kind = InsertSizes::Kind::kDiscrete;
+      const toml::array* list = t.get("sizes")->as_array();
+      if (!list || list->empty()) fail(t.get("sizes"), "[[insert]] sizes: expected a non-empty array of tables");
+      double sum = 0.0;
+      for (const toml::node& item : *list) {
+        const toml::table* e = item.as_table();
+        if (!e) fail(&item, "[[insert]] sizes: expected tables {radius, probability, material}");
+        check_keys(*e, "insert.sizes", {"radius", "probability", "material"});
+        InsertSize size;
+        size.radius = require_number(*e, "insert.sizes", "radius");
+        if (!(size.radius > 0.0)) fail(e->get("radius"), "[[insert]] sizes: radius must be > 0 m");
+        size.probability = require_number(*e, "insert.sizes", "probability");
+        if (!(size.probability > 0.0)) fail(e->get("probability"), "[[insert]] sizes: probability must be > 0");
+        size.material = material_of(*e, "[[insert]] sizes");
+        sum += size.probability;
+        z.entries.push_back(size);
+      }
+      // 1e-6: probabilities written with six digits still pass; a typo (0.3 + 0.6) does not.
+      if (!(std::abs(sum - 1.0) <= 1e-6)) {
+        fail(t.get("sizes"), "[[insert]] sizes: the probabilities sum to " + std::to_string(sum) + ", expected 1");
+      }
+    }
+    if (!r.fits(z.largest())) fail(&t, "[[insert]] the region is too small for a sphere of the largest radius");
+    // Schedule.
+    InsertSchedule& q = spec.schedule;
+    const auto to_steps = [&](const char* key) {
+      const double v = require_number(t, "insert", key);
+      if (!(v >= 0.0)) fail(t.get(key), std::string("[[insert]] ") + key + ": expected >= 0 s");
+      return std::llround(v / s.dt);  // the nearest step
+    };
+    if (t.contains("count") == t.contains("rate")) fail(&t, "[[insert]] needs exactly one of count (per event) or rate [particles/s]");
+    if (t.contains("count")) {
+      q.count = require_integer(t, "insert", "count");
+      if (q.count < 0) fail(t.get("count"), "[[insert]] count must be >= 0");
+    } else {
+      q.rate = positive("rate", require_number(t, "insert", "rate"));
+    }
+    q.first_step = t.contains("start") ? to_steps("start") : 0;
+    if (t.contains("every") && t.contains("every_steps")) fail(t.get("every_steps"), "[[insert]] give every [s] or every_steps, not both");
+    if (t.contains("every")) q.every_steps = to_steps("every");
+    if (t.contains("every_steps")) q.every_steps = require_integer(t, "insert", "every_steps");
+    if ((t.contains("every") || t.contains("every_steps")) && q.every_steps < 1) {
+      fail(t.contains("every") ? t.get("every") : t.get("every_steps"), "[[insert]] every: expected at least one time step");
+    }
+    if (q.rate > 0.0 && q.every_steps == 0) fail(t.get("rate"), "[[insert]] rate needs every [s] or every_steps");
+    if (t.contains("stop")) {
+      q.last_step = to_steps("stop");
+      if (q.last_step < q.first_step) fail(t.get("stop"), "[[insert]] stop must be >= start");
+    }
+    if (t.contains("total")) {
+      q.total = require_integer(t, "insert", "total");
+      if (q.total < 0) fail(t.get("total"), "[[insert]] total must be >= 0");
+    }
+    spec.velocity = optional_vec3(t, "insert", "velocity").value_or(Vec3::Zero());
+    spec.angular_velocity = optional_vec3(t, "insert", "angular_velocity").value_or(Vec3::Zero());
+    const long seed = optional_integer(t, "insert", "seed").value_or(static_cast<long>(index) + 1);
+    if (seed < 0) fail(t.get("seed"), "[[insert]] seed must be >= 0");
+    spec.seed = static_cast<std::uint64_t>(seed);
+    spec.attempts = optional_integer(t, "insert", "attempts").value_or(100);
+    if (spec.attempts < 1) fail(t.get("attempts"), "[[insert]] attempts must be >= 1");
+    return spec;
+  }
+
   /// Optional material = "name" of a [[wall]] or [[object]] (boundary index b).
   void set_boundary_material(const toml::table& t, const char* table, std::size_t b, SimulationSetup& s) const {
     const toml::node* m = t.get("material");
@@ -561,6 +715,7 @@ class SceneParser {
       if (!cells) fail(&t, "[object] mesh = needs cells = [nx, ny, nz]");
       double r_max = 0.0;
       for (const Particle& p : s.particles) r_max = std::max(r_max, p.radius);
+      for (const Particle& p : s.insert_probes) r_max = std::max(r_max, p.radius);  // particles to come
       const double margin = optional_number(t, "object", "margin").value_or(2.0 * r_max);
       if (!(margin >= 0.0)) fail(t.get("margin"), "[object] margin must be >= 0 m");
       const TriangleMesh mesh = read_stl(relative_to_scene(require_string(t, "object", "mesh")));

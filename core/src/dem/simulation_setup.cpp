@@ -117,6 +117,12 @@ std::string SimulationSetup::material_label(std::size_t k) const {
 }
 
 TimeStepLimit time_step_limit(const SimulationSetup& setup) {
+  if (!setup.insert_probes.empty()) {  // the particles to come count as well
+    SimulationSetup all = setup;
+    all.particles.insert(all.particles.end(), setup.insert_probes.begin(), setup.insert_probes.end());
+    all.insert_probes.clear();
+    return time_step_limit(all);
+  }
   if (setup.particles.empty()) return {std::numeric_limits<double>::infinity(), "no particles"};
   // Mass and Rayleigh time grow monotonically with R (also in floating point: products and
   // quotients of positive numbers), so with one material these minima are those of R_min.

@@ -51,6 +51,7 @@ ReferenceEngine::ReferenceEngine(const SimulationSetup& setup)
     : particles_(setup.particles), dt_(setup.dt), gravity_(setup.gravity),
       boundary_count_(setup.boundaries.size()), energy_balance_(setup.energy_balance) {
   ppohdem::dem::validate_setup(setup);
+  for (std::size_t k = 0; k < setup.material_count(); ++k) materials_.push_back(setup.material_at(k));
   for (const Particle& p : particles_) {
     const ppohdem::dem::Material& material = setup.material_at(p.material);
     mass_.push_back(material.mass(p.radius));
@@ -153,6 +154,22 @@ std::vector<ppohdem::dem::BoundaryLoad> ReferenceEngine::boundary_loads() const 
 }
 
 std::optional<ppohdem::dem::LargestOverlap> ReferenceEngine::largest_overlap() const { return deepest_; }
+
+void ReferenceEngine::insert_particles(const Particles& added) {
+  // They touch nothing (the caller's promise), so the last evaluation's forces stand and
+  // theirs are zero: a(n) = g for the next half kick.
+  for (Particle p : added) {
+    if (p.material >= materials_.size()) throw InputError("insert_particles: material index out of range");
+    p.force.setZero();
+    p.torque.setZero();
+    const ppohdem::dem::Material& material = materials_[p.material];
+    mass_.push_back(material.mass(p.radius));
+    inertia_.push_back(material.moment_of_inertia(p.radius));
+    predicted_velocity_.push_back(p.velocity);
+    predicted_angular_velocity_.push_back(p.angular_velocity);
+    particles_.push_back(p);
+  }
+}
 
 EngineState ReferenceEngine::save_state() const {
   EngineState state;

@@ -12,7 +12,7 @@
 ///            u32 n + n bytes: the writer's build ("ppohdem 0.1.0 (git abc123)")
 ///            u64 payload length [bytes]
 ///            u32 CRC-32 of the header bytes above
-///   payload  (format version 3) see checkpoint.cpp, encode_payload()
+///   payload  (format version 4) see checkpoint.cpp, encode_payload()
 ///   trailer  u32 CRC-32 of the payload
 /// Magic, version and build keep their place in every future version, so a file of another
 /// version is refused naming both versions and builds. CRC-32 is zlib's crc32 (the
@@ -25,12 +25,16 @@
 #include <vector>
 
 #include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/insertion.hpp"
 #include "ppohdem/geometry/vector.hpp"
 
 namespace ppohdem::dem {
 
-/// 2: particles carry their material index (multi-material scenes); 1 (refused) did not.
-inline constexpr std::uint32_t kCheckpointFormatVersion = 3;
+/// 4: the insertions' record (InsertionRecord) after the run record; version 3 (no
+/// insertions) is still read. 2: particles carry their material index (multi-material
+/// scenes); 1 (refused) did not.
+inline constexpr std::uint32_t kCheckpointFormatVersion = 4;
+inline constexpr std::uint32_t kOldestCheckpointFormatVersion = 3;
 inline constexpr char kCheckpointMagic[9] = "PPOHDEMC";
 
 /// A rigid object's pose when the checkpoint was written (the motion is prescribed, so this
@@ -57,6 +61,7 @@ struct Checkpoint {
   EngineState engine;
   std::vector<ObjectPoseRecord> objects;
   RunRecord run;
+  InsertionRecord insertion;  ///< [[insert]] counters (empty counters: none; version 3 files)
 };
 
 /// "ppohdem VERSION (git HASH)" of this build.

@@ -146,6 +146,14 @@ class DemEngine {
   virtual void restore_state(const EngineState& /*state*/) {
     throw InputError("engine '" + name() + "' does not support checkpoints (restore_state)");
   }
+  /// Particle insertion (insertion.hpp): appends `added` after the existing particles (so
+  /// particles() lists them last, in this order), with zero force and torque. The caller
+  /// guarantees new ids and that they touch no particle and no boundary, so no force of the
+  /// last evaluation changes. Several ranks: collective, the same `added` on every rank.
+  /// Engines without support throw InputError.
+  virtual void insert_particles(const Particles& /*added*/) {
+    throw InputError("engine '" + name() + "' does not support particle insertion ([[insert]])");
+  }
   /// The deepest contact of the last force evaluation (ratio 0 if there is no contact), or
   /// nothing if the engine does not report it (the run diagnostics then check particle pairs
   /// themselves, by sort and sweep).

@@ -12,6 +12,8 @@
 ///   objects are where the checkpoint saw them, and continues energy.csv, objects.csv and the
 ///   frame numbering, so a run to the same end step gives the same files (up to the header
 ///   line) as an uninterrupted one. Stale temp files of killed runs in <dir> are removed.
+/// Insertion ([[insert]], insertion_run.hpp): the events due at a step run right after it (step
+///   0's before the initial outputs), so that step's outputs and checkpoint include them.
 /// Diagnostics (run_diagnostics.hpp) after every step; a failed check writes the logs and
 ///   <dir>/failed_checkpoint.bin and throws RunFailure.
 #include <cstdint>
@@ -40,6 +42,10 @@ struct RunSummary {
   std::size_t escaped = 0;
   std::size_t frames = 0;
   CheckMargins margins;  ///< largest overlap and energy growth seen (run_diagnostics.hpp)
+  std::int64_t inserted = 0;       ///< particles inserted by [[insert]] (insertion_run.hpp)
+  std::int64_t insert_failed = 0;  ///< particles [[insert]] asked for but found no place for
+  /// Kinetic, rotational and gravitational energy of the particles inserted after step 0 [J]
+  Energies inserted_energy;
 };
 
 struct RunOptions {

@@ -73,6 +73,9 @@ class RunDiagnostics {
   /// evaluation, e.g. two particles at the same point).
   std::optional<std::string> check_finite(const DemEngine& engine) const;
   const CheckMargins& margins() const { return margins_; }
+  /// Energy brought in since step 0 by inserted particles (their kinetic, rotational and
+  /// gravitational energy; insertion_run.hpp): the balance is checked against initial + input.
+  void set_input(const Energies& input) { input_ = input; }
 
  private:
   std::optional<std::string> check_overlap(const DemEngine& engine);
@@ -83,6 +86,7 @@ class RunDiagnostics {
   const SimulationSetup& setup_;
   RunChecks checks_;
   Energies initial_;
+  Energies input_;  ///< set_input
   double initial_overlap_;
   TimeStepLimit limit_;
   CheckMargins margins_;

@@ -15,7 +15,7 @@
 ///                friction of that pair (otherwise min of the two materials' values)
 ///   [contact]    model = "hertz-mindlin" | "linear" | "hooke";
 ///                linear only: stiffness [N/m] or collision_time [s] (for two particles of
-///                the mean radius), tangential_stiffness_ratio (default 2/7);
+///                the mean radius; a scene that starts empty: of the [[insert]] sizes' mean), tangential_stiffness_ratio (default 2/7);
 ///                hooke only: characteristic_velocity [m/s] (required),
 ///                tangential_stiffness_ratio (default 1); tangential_damping = true | false
 ///                (default true for hooke, false otherwise; contact_law.hpp)
@@ -36,6 +36,13 @@
 ///                axis (any length, normalised), omega [rad/s] about axis through centroid
 ///                [m] (default: the grid's centre), start [s] (default 0), stop [s]
 ///                (default never), name (default "object N"), material (as [[wall]])
+///   [[insert]]   particle insertion (insertion.hpp; every key: docs/formats.md
+///                "Scene tables `[[insert]]` and `insertions.csv`"): region =
+///                "box" (lo, hi [m]) | "cylinder" (point, axis, radius, length [m]); count
+///                per event or rate [1/s]; start, every, stop [s] (or every_steps), total;
+///                radius [m] | radius_min, radius_max [m] | sizes = [{radius, probability,
+///                material}]; material; velocity [m/s], angular_velocity [rad/s]; seed,
+///                attempts. With [[insert]], [particles] is optional (the scene starts empty).
 ///   [output]     dir (relative to the scene file), every (steps), formats = ["csv","vtk",
 ///                "pov"], progress = true (stderr)
 ///   [checks]     run diagnostics (run_diagnostics.hpp): max_overlap [-] (default 0.1 of the
@@ -49,6 +56,7 @@
 #include <vector>
 
 #include "ppohdem/dem/distance_field_object.hpp"
+#include "ppohdem/dem/insertion.hpp"
 #include "ppohdem/dem/run_diagnostics.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
 
@@ -77,6 +85,7 @@ struct Scene {
   long steps = 0;
   OutputSpec output;
   RunChecks checks;
+  std::vector<InsertSpec> inserts;  ///< [[insert]] tables (insertion.hpp), in file order
 };
 
 /// Reads and checks a scene; throws InputError(file, line, ...) naming the key. Does not run

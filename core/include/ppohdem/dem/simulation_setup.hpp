@@ -47,6 +47,9 @@ struct SimulationSetup {
   /// a one-material scene does).
   std::vector<std::int32_t> boundary_materials;
   Particles particles;
+  /// Particles still to come (scene [[insert]]: one per size extreme and material,
+  /// insertion.hpp insert_size_probes): counted in time_step_limit only.
+  Particles insert_probes;
   BoundaryList boundaries;         ///< walls (and later rigid objects)
   bool allow_initial_overlap = false;  ///< accept overlaps > 1% of the smaller radius
   bool force_time_step = false;        ///< accept dt above the stability limit (--force)

@@ -145,6 +145,7 @@ struct FastEngine::Impl {
   Decomposition decomposition;
   std::size_t total = 0;  ///< particles of the whole system
   double skin = 0.0;      ///< [m]
+  double skin_fraction = 0.2;  ///< FastOptions::skin_fraction (insertion may raise R_max)
   double r_max = 0.0;     ///< [m], over the whole system
   bool skip_far_objects = true;  ///< FastOptions::skip_far_objects
   long steps = 0;

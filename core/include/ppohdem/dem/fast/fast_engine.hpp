@@ -137,6 +137,9 @@ class FastEngine final : public DemEngine {
   std::vector<BoundaryLoad> boundary_loads() const override;
   EngineState save_state() const override;
   void restore_state(const EngineState& state) override;
+  /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): the whole state with
+  /// the new particles appended is restored (a list build; collective with several ranks).
+  void insert_particles(const Particles& added) override;
   /// Deepest contact of the last evaluation (ties: smaller (boundary, id_a, id_b)).
   std::optional<LargestOverlap> largest_overlap() const override;
 

@@ -92,6 +92,8 @@ class ReferenceEngine final : public ppohdem::dem::DemEngine {
   EngineState save_state() const override;
   void restore_state(const EngineState& state) override;
   std::optional<ppohdem::dem::LargestOverlap> largest_overlap() const override;
+  /// Appends the particles (DemEngine::insert_particles): their masses from their materials.
+  void insert_particles(const Particles& added) override;
 
  private:
   void evaluate_forces(double history_dt);
@@ -99,6 +101,7 @@ class ReferenceEngine final : public ppohdem::dem::DemEngine {
   Particles particles_;
   std::vector<double> mass_;     ///< m [kg]
   std::vector<double> inertia_;  ///< I = (2/5) m R^2 [kg m^2]
+  std::vector<ppohdem::dem::Material> materials_;  ///< material k of the scene (inserted particles)
   std::vector<Vec3> predicted_velocity_;          ///< v(n+1/2) + a(n) dt/2 [m/s]
   std::vector<Vec3> predicted_angular_velocity_;  ///< w(n+1/2) + alpha(n) dt/2 [rad/s]
   double dt_;

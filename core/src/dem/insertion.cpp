@@ -1,0 +1,263 @@
+// Particle insertion: candidates, their overlap tests and the schedule (insertion.hpp;
+// docs/objects.md "Particle insertion").
+#include "ppohdem/dem/insertion.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+#include "ppohdem/dem/distance_field_object.hpp"
+#include "ppohdem/grid/trilinear.hpp"
+
+namespace ppohdem::dem {
+namespace {
+
+/// Two unit vectors perpendicular to the unit `axis` and to each other (a fixed choice).
+std::pair<Vec3, Vec3> perpendicular_basis(const Vec3& axis) {
+  const Vec3 helper = std::abs(axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 e1 = (helper - helper.dot(axis) * axis).normalized();
+  return {e1, axis.cross(e1)};
+}
+
+/// The region's bounding box [m].
+std::pair<Vec3, Vec3> bounding_box(const InsertRegion& region) {
+  if (region.kind == InsertRegion::Kind::kBox) return {region.lo, region.hi};
+  const Vec3 end = region.point + region.length * region.axis;
+  Vec3 half;  // a disc of radius R with unit normal a reaches R sqrt(1 - a_i^2) along axis i
+  for (int i = 0; i < 3; ++i) half[i] = region.radius * std::sqrt(std::max(0.0, 1.0 - region.axis[i] * region.axis[i]));
+  return {region.point.cwiseMin(end) - half, region.point.cwiseMax(end) + half};
+}
+
+/// True if a sphere of radius r (already grown by kInsertGap) touches or has crossed a
+/// boundary at `time`. No side effect: an object's outside-grid count is not touched (the
+/// candidates are not particles of the run).
+bool touches_boundary(const Boundary& boundary, const Vec3& centre, double r, double time) {
+  if (const auto* wall = dynamic_cast<const PlaneWall*>(&boundary)) {
+    return PlaneWall::signed_distance(wall->point_at(time), wall->normal(), centre) < r;
+  }
+  if (const auto* object = dynamic_cast<const DistanceFieldObject*>(&boundary)) {
+    const Vec3 local = object->pose_at(time).inverse().apply(centre);  // object frame [m]
+    const auto sample = sample_trilinear(object->field(), local);
+    if (!sample) return false;  // outside the grid: far from the object, as for the engines
+    if (!object->contact_mesh()) return sample->value < r;
+    // With exact mesh contacts: the field clears a sphere only beyond one cell diagonal
+    // (object_mesh_contacts.cpp), the mesh decides nearer; a centre inside is refused.
+    const double diagonal = object->field().grid.spacing.norm() * (1.0 + 1e-9);
+    if (sample->value >= r + diagonal) return false;
+    if (sample->value <= 0.0) return true;
+    std::vector<MeshContact> found;
+    object->contact_mesh()->contacts(local, r, found);
+    return !found.empty();
+  }
+  std::vector<FeatureContact> contacts;  // any other boundary through its interface
+  boundary.contacts(centre, r, time, contacts);
+  return !contacts.empty() || boundary.has_escaped(centre, time);
+}
+
+/// The particles near the region in cells of side >= the largest sum of two radii, so that
+/// a candidate's possible partners lie in the 27 cells around its own.
+class NearParticles {
+ public:
+  NearParticles(const Vec3& lo, const Vec3& hi, double side) : lo_(lo), side_(side) {
+    for (int i = 0; i < 3; ++i) dims_[i] = std::max<long>(1, static_cast<long>(std::ceil((hi[i] - lo[i]) / side)));
+  }
+  void add(const Vec3& x, double r) {
+    centres_.push_back(x);
+    radii_.push_back(r);
+    cells_[key(cell(x))].push_back(static_cast<std::uint32_t>(centres_.size() - 1));
+  }
+  /// True if a sphere (x, r) comes closer than (1 + kInsertGap)(r + R_j) to a particle j.
+  bool overlaps(const Vec3& x, double r) const {
+    const std::array<long, 3> c = cell(x);
+    for (long dz = -1; dz <= 1; ++dz) {
+      for (long dy = -1; dy <= 1; ++dy) {
+        for (long dx = -1; dx <= 1; ++dx) {
+          const std::array<long, 3> n = {c[0] + dx, c[1] + dy, c[2] + dz};
+          if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= dims_[0] || n[1] >= dims_[1] || n[2] >= dims_[2]) continue;
+          const auto it = cells_.find(key(n));
+          if (it == cells_.end()) continue;
+          for (const std::uint32_t j : it->second) {
+            const double reach = (1.0 + kInsertGap) * (r + radii_[j]);
+            if ((x - centres_[j]).squaredNorm() < reach * reach) return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::array<long, 3> cell(const Vec3& x) const {
+    std::array<long, 3> c{};
+    for (int i = 0; i < 3; ++i) {
+      const double u = std::floor((x[i] - lo_[i]) / side_);
+      c[i] = u < 0.0 ? 0 : (u >= static_cast<double>(dims_[i]) ? dims_[i] - 1 : static_cast<long>(u));
+    }
+    return c;
+  }
+  long key(const std::array<long, 3>& c) const { return c[0] + dims_[0] * (c[1] + dims_[1] * c[2]); }
+
+  Vec3 lo_;
+  double side_;
+  std::array<long, 3> dims_{};
+  std::vector<Vec3> centres_;
+  std::vector<double> radii_;
+  std::unordered_map<long, std::vector<std::uint32_t>> cells_;
+};
+
+}  // namespace
+
+Vec3 InsertRegion::centre(double u1, double u2, double u3, double r) const {
+  if (kind == Kind::kBox) {
+    const Vec3 a = lo + Vec3::Constant(r), b = hi - Vec3::Constant(r);
+    return a + Vec3(u1, u2, u3).cwiseProduct(b - a);
+  }
+  const auto [e1, e2] = perpendicular_basis(axis);
+  const double rho = std::sqrt(u1) * (radius - r);  // uniform over the disc of radius R - r
+  const double phi = 2.0 * std::numbers::pi * u2;
+  return point + (r + u3 * (length - 2.0 * r)) * axis + rho * (std::cos(phi) * e1 + std::sin(phi) * e2);
+}
+
+bool InsertRegion::holds(const Vec3& c, double r) const {
+  constexpr double slack = 1e-12;  // [m], the rounding of centre() for regions of order 1 m
+  if (kind == Kind::kBox) {
+    return ((c.array() - r) >= lo.array() - slack).all() && ((c.array() + r) <= hi.array() + slack).all();
+  }
+  const Vec3 d = c - point;
+  const double s = d.dot(axis);
+  return s >= r - slack && s <= length - r + slack && (d - s * axis).norm() <= radius - r + slack;
+}
+
+bool InsertRegion::fits(double r) const {
+  if (kind == Kind::kBox) return ((hi - lo).array() > 2.0 * r).all();
+  return radius > r && length > 2.0 * r;
+}
+
+double InsertRegion::volume() const {
+  if (kind == Kind::kBox) return (hi - lo).prod();
+  return std::numbers::pi * radius * radius * length;
+}
+
+std::pair<double, std::uint16_t> InsertSizes::draw(double u) const {
+  if (kind == Kind::kConstant) return {r_min, material};
+  if (kind == Kind::kUniform) return {r_min + u * (r_max - r_min), material};
+  double cumulative = 0.0;
+  for (const InsertSize& e : entries) {
+    cumulative += e.probability;
+    if (u < cumulative) return {e.radius, e.material};
+  }
+  return {entries.back().radius, entries.back().material};
+}
+
+double InsertSizes::largest() const {
+  if (kind != Kind::kDiscrete) return kind == Kind::kConstant ? r_min : r_max;
+  double r = 0.0;
+  for (const InsertSize& e : entries) r = std::max(r, e.radius);
+  return r;
+}
+
+double InsertSizes::smallest() const {
+  if (kind != Kind::kDiscrete) return r_min;
+  double r = std::numeric_limits<double>::infinity();
+  for (const InsertSize& e : entries) r = std::min(r, e.radius);
+  return r;
+}
+
+bool InsertSchedule::has_event(std::uint64_t k) const {
+  if (every_steps == 0) return k == 0 && first_step <= last_step;
+  return k <= static_cast<std::uint64_t>((last_step - first_step) / every_steps) && first_step <= last_step;
+}
+
+long InsertSchedule::wanted(std::uint64_t k, long requested_so_far, double dt) const {
+  long n = count;
+  if (rate > 0.0) {
+    const double interval = static_cast<double>(every_steps) * dt;  // [s]
+    const auto due = [&](std::uint64_t events) {
+      return static_cast<long>(std::floor(rate * static_cast<double>(events) * interval + 1e-9));
+    };
+    n = due(k + 1) - due(k);
+  }
+  if (total >= 0) n = std::min(n, total - requested_so_far);
+  return std::max(0L, n);
+}
+
+double insert_uniform(std::uint64_t seed, std::uint64_t u) {
+  std::uint64_t z = seed + (u + 1) * 0x9E3779B97F4A7C15ULL;  // SplitMix64 (Steele et al. 2014)
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;  // the top 53 bits: exact, in [0, 1)
+}
+
+Particles insert_event(const InsertSpec& spec, long wanted, InsertCounters& counters, const Particles& existing,
+                       const BoundaryList& boundaries, double time, std::int64_t& next_id) {
+  Particles added;
+  if (wanted <= 0) return added;
+  const double r_new = spec.sizes.largest();
+  double r_old = r_new;
+  for (const Particle& p : existing) r_old = std::max(r_old, p.radius);
+  // Particles farther than r_new + r_old from the region's box cannot touch a candidate.
+  const double reach = (1.0 + 1e-6) * (r_new + r_old);  // the gap kInsertGap included
+  auto [lo, hi] = bounding_box(spec.region);
+  lo -= Vec3::Constant(reach);
+  hi += Vec3::Constant(reach);
+  // Cells of side >= reach, at most ~2^21 of them (a large region of small particles).
+  const double side = std::max(reach, std::cbrt((hi - lo).prod() / 2097152.0));
+  NearParticles near(lo, hi, side);
+  for (const Particle& p : existing) {
+    if (((p.position.array() >= lo.array()) && (p.position.array() <= hi.array())).all()) near.add(p.position, p.radius);
+  }
+  for (long n = 0; n < wanted; ++n) {
+    bool placed = false;
+    for (long attempt = 0; attempt < spec.attempts && !placed; ++attempt) {
+      const double u0 = insert_uniform(spec.seed, counters.draws++);
+      const double u1 = insert_uniform(spec.seed, counters.draws++);
+      const double u2 = insert_uniform(spec.seed, counters.draws++);
+      const double u3 = insert_uniform(spec.seed, counters.draws++);
+      const auto [r, material] = spec.sizes.draw(u0);
+      const Vec3 x = spec.region.centre(u1, u2, u3, r);
+      if (near.overlaps(x, r)) continue;
+      bool blocked = false;
+      for (const auto& b : boundaries) blocked = blocked || touches_boundary(*b, x, (1.0 + kInsertGap) * r, time);
+      if (blocked) continue;
+      Particle p;
+      p.id = next_id++;
+      p.position = x;
+      p.velocity = spec.velocity;
+      p.angular_velocity = spec.angular_velocity;
+      p.radius = r;
+      p.material = material;
+      near.add(x, r);
+      added.push_back(p);
+      placed = true;
+    }
+    if (placed) ++counters.inserted;
+    else ++counters.failed;
+  }
+  return added;
+}
+
+Particles insert_size_probes(const std::vector<InsertSpec>& specs) {
+  Particles probes;
+  auto add = [&](double r, std::uint16_t material) {
+    Particle p;
+    p.id = static_cast<std::int64_t>(probes.size()) + 1;
+    p.position = Vec3(static_cast<double>(probes.size()) * 1e6, 0.0, 0.0);
+    p.radius = r;
+    p.material = material;
+    probes.push_back(p);
+  };
+  for (const InsertSpec& s : specs) {
+    if (s.sizes.kind == InsertSizes::Kind::kDiscrete) {
+      for (const InsertSize& e : s.sizes.entries) add(e.radius, e.material);
+    } else {
+      add(s.sizes.r_min, s.sizes.material);
+      add(s.sizes.r_max, s.sizes.material);
+    }
+  }
+  return probes;
+}
+
+}  // namespace ppohdem::dem

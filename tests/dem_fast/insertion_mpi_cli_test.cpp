@@ -1,0 +1,61 @@
+// Particle insertion across MPI ranks (issue 38 item 5; docs/objects.md "Particle insertion"):
+// the example fill scene (fixtures/scenes/fill/box_fill.toml: starts empty, inserts every
+// 2,000 steps around a mesh object) run by `mpirun -n 2 ppohdem simulate --engine fast` writes
+// the same final.csv, energy.csv and insertions.csv, byte for byte (header lines aside), as the
+// REFERENCE engine on one rank; a checkpoint written at 2 ranks after some insertions restarts
+// at 1 rank and ends with the same files. Label mpi; built only with PPOHDEM_ENABLE_MPI.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "../apps/cli_runner.hpp"
+#include "../reliability/reliability_scenes.hpp"
+#include "bed_scene.hpp"
+
+namespace fs = std::filesystem;
+using ppohdem::test::body;
+using ppohdem::test::CommandResult;
+
+namespace {
+
+const fs::path kScene = fs::path(PPOHDEM_SOURCE_DIR) / "fixtures" / "scenes" / "fill" / "box_fill.toml";
+
+CommandResult run_mpi(int ranks, const std::string& args) {
+  const std::string command = "env OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"
+                              " OMPI_MCA_mpi_yield_when_idle=1 OMP_WAIT_POLICY=passive '" +
+                              std::string(PPOHDEM_MPIEXEC) + "' -n " + std::to_string(ranks) +
+                              " --oversubscribe --bind-to none '" + std::string(PPOHDEM_EXE) + "' simulate '" +
+                              kScene.string() + "' " + args + " 2>&1";
+  return ppohdem::test::run_shell(command);
+}
+
+}  // namespace
+
+// 6,000 steps: events at steps 0, 2000, 4000 and 6000 (25 particles each), the first ones
+// already falling onto the scoop and the floor.
+TEST(InsertionMpi, FillIsTheReferencesAtTwoRanksAndRestartsAtOne) {
+  const fs::path root = ppohdem::test::scratch("insertion_mpi", "fill");
+  const std::string steps = " --steps 6000 --quiet";
+  const CommandResult ref = ppohdem::test::run_ppohdem("simulate '" + kScene.string() + "' --engine reference --output-dir '" +
+                                                       (root / "reference").string() + "'" + steps);
+  ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  EXPECT_NE(ref.output.find("inserted 100 particles, 0 could not be inserted"), std::string::npos) << ref.output;
+  const CommandResult two = run_mpi(2, "--engine fast --output-dir '" + (root / "np2").string() + "'" + steps);
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  for (const char* file : {"final.csv", "energy.csv", "insertions.csv"}) {
+    EXPECT_EQ(body(root / "np2" / file), body(root / "reference" / file)) << file;
+  }
+  // A checkpoint at step 4000 (an insertion step: its particles are in it) at 2 ranks,
+  // continued at 1 rank.
+  const fs::path parts = root / "parts";
+  const CommandResult first = run_mpi(2, "--engine fast --output-dir '" + parts.string() +
+                                             "' --steps 4000 --checkpoint-every 4000 --quiet");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const CommandResult second = run_mpi(1, "--engine fast --output-dir '" + parts.string() + "' --restart '" +
+                                              (parts / "checkpoint.bin").string() + "'" + steps);
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  for (const char* file : {"final.csv", "insertions.csv"}) {
+    EXPECT_EQ(body(parts / file), body(root / "reference" / file)) << file;
+  }
+}
