@@ -309,10 +309,21 @@ struct SceneResult {
 };
 
 /// Each observable of each run as (value - mean) / stddev of the fit members: the rule scores
-/// the PCs, this table says which observables a failing PC is made of.
+/// the PCs, this table says which observables a failing PC is made of. The runs' values go to
+/// img/port_observables_<scene>.csv (one row per run), for studies beyond the check.
 void write_standardised_table(std::ostream& o, const Baseline& b, const std::vector<std::string>& labels,
-                              const std::vector<Observables>& runs) {
+                              const std::vector<Observables>& runs, const fs::path& img) {
   if (runs.empty()) return;
+  std::vector<std::vector<double>> values;
+  for (const auto& run : runs) {
+    values.emplace_back();
+    for (const auto& name : b.names) {
+      const auto it = std::find(run.names.begin(), run.names.end(), name);
+      values.back().push_back(it == run.names.end() ? std::nan("") : run.values[static_cast<std::size_t>(it - run.names.begin())]);
+    }
+  }
+  const std::string csv = "port_observables_" + b.scene + ".csv";
+  validation::write_csv((img / csv).string(), b.names, values);
   o << "\nObservables standardised by the ensemble, (run - mean) / standard deviation of the "
     << b.fit_members << " fit members (beyond " << b.rule.sigma << " marked):\n\n| observable | mean | sd |";
   for (const auto& label : labels) o << " " << label << " |";
@@ -327,6 +338,7 @@ void write_standardised_table(std::ostream& o, const Baseline& b, const std::vec
     for (const auto& zr : z) o << " " << fmt("%+.2f", zr(i)) << (std::abs(zr(i)) > b.rule.sigma ? " **!**" : "") << " |";
     o << "\n";
   }
+  o << "\nThe runs' values: [img/" << csv << "](img/" << csv << ").\n";
 }
 
 /// The oracle suite's analytic groups (Chung & Ooi), run in this process with the fast engine.
@@ -428,7 +440,7 @@ void write_report(const fs::path& out, const std::vector<SceneResult>& results, 
                             fmt("%g", b.rule.sigma) + " " + validation::shell_quote(b.scene) + " 1>&2";
     if (std::system(cmd.c_str()) == 0) o << "\n![PC scores of " << b.scene << "](img/" << png << ")\n";
     else std::fprintf(stderr, "[port] warning: plot %s not made\n", png.c_str());
-    write_standardised_table(o, b, r.runs, r.observed);
+    write_standardised_table(o, b, r.runs, r.observed, img);
     if (!r.growth.empty()) {
       o << "\nGrowth diagnostic: RMS distance [m] between this machine's run of seed " << kGrowthSeed
         << " and the reference machine's (every 10th particle), and between pairs of reference members:\n\n"

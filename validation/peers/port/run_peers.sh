@@ -5,7 +5,7 @@
 # ppohdem frames, and `ppohdem validate --port --external` judges each code's three runs.
 #   validation/peers/port/run_peers.sh PPOHDEM SCRATCH ["ppohdem liggghts lammps lammps-walls yade"]
 # PPOHDEM is a ppohdem built with CGAL (its validate mode). Prints one table row per code;
-# the reports are SCRATCH/<code>-report.md. ppohdem itself runs as the control.
+# the reports are SCRATCH/<code>/report.md (the runs' observables in SCRATCH/<code>/img). ppohdem itself runs as the control.
 set -eu
 ppohdem=$(readlink -f "$1")
 scratch=$2
@@ -54,6 +54,6 @@ for code in $codes; do
     dirs="$dirs $run"
   done
   # shellcheck disable=SC2086
-  verdict=$("$ppohdem" validate --port --external $dirs --out "$scratch/$code-report.md" 2>&1 | grep -E "^settling_bed " || true)
+  verdict=$("$ppohdem" validate --port --external $dirs --out "$scratch/$code/report.md" 2>&1 | grep -E "^settling_bed " || true)
   echo "| $code | $verdict |"
 done
