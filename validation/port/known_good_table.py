@@ -38,12 +38,15 @@ def growth(report, scene):
     if start < 0:
         return '-'
     section = text[start:text.find('\n## ', start + 5) if text.find('\n## ', start + 5) > 0 else len(text)]
-    rows = re.findall(r'^\| (\d+) \| (\S+) \| \S+ \| \S+ \| \S+ \|$', section, re.M)
+    growth_at = section.find('Growth diagnostic')
+    if growth_at < 0:
+        return '-'
+    rows = re.findall(r'^\| (\d+) \| (\S+) \| \S+ \| \S+ \| \S+ \|$', section[growth_at:], re.M)
     if not rows:
         return '-'
     for step, value in rows:
         if float(value) != 0.0:
-            return 'parts at step %s (%s m)' % (step, value)
+            return 'differs from step %s (%s m)' % (step, value)
     return 'bitwise equal'
 
 
