@@ -56,7 +56,7 @@ def row(label, folder):
     rows, worst, where = deterministic(lines)
     analytic = next((l.split(': ', 1)[1] for l in lines if l.startswith('analytic checks')), '-')
     cells = [label]
-    cells.append('%.3g (%s)' % (worst, where) if rows else '-')
+    cells.append(('%.3g (%s)' % (worst, where) if worst > 0 else '0 (all %d rows)' % rows) if rows else '-')
     cells.append(analytic)
     for scene in SCENES:
         line = next((l for l in lines if l.startswith(scene + ' ')), None)
@@ -78,7 +78,7 @@ def main():
           'settling_bed: largest score | seed_sample: largest score | verdict |')
     print('|---|---|---|---|---|---|')
     for arg in sys.argv[1:]:
-        label, _, folder = arg.partition('=')
+        label, _, folder = arg.rpartition('=')
         print(row(label, folder))
 
 
