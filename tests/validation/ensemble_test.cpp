@@ -3,6 +3,7 @@
 // the mean passes, a shift of many standard deviations fails, files round-trip.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <random>
 
@@ -59,6 +60,21 @@ TEST(EnsembleTest, MeanPassesAndAShiftFails) {
   shifted.values[3] += 10.0 * b.stddev(3);  // observable d, 10 sd off
   EXPECT_FALSE(judge(b, {shifted, shifted, mean}).pass);
   EXPECT_TRUE(judge(b, {shifted, mean, mean}).pass);  // one run of three is not enough
+}
+
+TEST(EnsembleTest, StandardisedNamesTheShiftedObservable) {
+  const Baseline b = fit_baseline("synthetic", synthetic(200, 4), EnsembleRule{});
+  Observables run;
+  run.names = b.names;
+  run.values.assign(b.mean.data(), b.mean.data() + b.mean.size());
+  run.values[1] += 4.0 * b.stddev(1);  // observable b, 4 sd up
+  std::reverse(run.names.begin(), run.names.end());  // found by name, not by position
+  std::reverse(run.values.begin(), run.values.end());
+  Eigen::VectorXd z = standardised(b, run);
+  // (mean + 4 sd - mean) / sd: exact up to the round-off of two operations (1e-12).
+  EXPECT_NEAR(z(1), 4.0, 1e-12);
+  z(1) = 0.0;
+  EXPECT_LT(z.cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(EnsembleTest, FalsePositiveRateOfFreshMembersIsSmall) {

@@ -84,13 +84,17 @@ Baseline fit_baseline(const std::string& scene, const std::vector<Observables>& 
   return b;
 }
 
-Eigen::VectorXd pc_scores(const Baseline& b, const Observables& run) {
+Eigen::VectorXd standardised(const Baseline& b, const Observables& run) {
   Eigen::VectorXd z(static_cast<Eigen::Index>(b.names.size()));
   for (std::size_t k = 0; k < b.names.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     z(i) = (value_of(run, b.names[k]) - b.mean(i)) / b.stddev(i);
   }
-  return (b.loadings.transpose() * z).array() / b.eigenvalues.array().sqrt();
+  return z;
+}
+
+Eigen::VectorXd pc_scores(const Baseline& b, const Observables& run) {
+  return (b.loadings.transpose() * standardised(b, run)).array() / b.eigenvalues.array().sqrt();
 }
 
 Verdict judge(const Baseline& b, const std::vector<Observables>& runs) {

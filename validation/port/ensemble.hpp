@@ -42,6 +42,11 @@ struct Baseline {
 /// Fits the baseline to the members' observables (rows = members; all with the same names).
 Baseline fit_baseline(const std::string& scene, const std::vector<Observables>& members, const EnsembleRule& rule);
 
+/// One run's observables standardised by the fit members: (value - mean) / stddev, per name of
+/// the baseline. Not what the rule scores (the PCs), but it names the observables a failure
+/// comes from. Throws if the run lacks an observable of the baseline.
+Eigen::VectorXd standardised(const Baseline& baseline, const Observables& run);
+
 /// Scores of one run on the kept PCs (unit variance over the ensemble). Throws if the run lacks
 /// an observable of the baseline.
 Eigen::VectorXd pc_scores(const Baseline& baseline, const Observables& run);

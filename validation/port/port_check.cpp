@@ -305,7 +305,41 @@ struct SceneResult {
   std::vector<std::string> runs;  // labels
   Verdict verdict;
   std::vector<GrowthRow> growth;  // empty: no growth diagnostic
+  std::vector<Observables> observed;  // the runs' observables (the standardised table)
 };
+
+/// Each observable of each run as (value - mean) / stddev of the fit members: the rule scores
+/// the PCs, this table says which observables a failing PC is made of. The runs' values go to
+/// img/port_observables_<scene>.csv (one row per run), for studies beyond the check.
+void write_standardised_table(std::ostream& o, const Baseline& b, const std::vector<std::string>& labels,
+                              const std::vector<Observables>& runs, const fs::path& img) {
+  if (runs.empty()) return;
+  std::vector<std::vector<double>> values;
+  for (const auto& run : runs) {
+    values.emplace_back();
+    for (const auto& name : b.names) {
+      const auto it = std::find(run.names.begin(), run.names.end(), name);
+      values.back().push_back(it == run.names.end() ? std::nan("") : run.values[static_cast<std::size_t>(it - run.names.begin())]);
+    }
+  }
+  const std::string csv = "port_observables_" + b.scene + ".csv";
+  validation::write_csv((img / csv).string(), b.names, values);
+  o << "\nObservables standardised by the ensemble, (run - mean) / standard deviation of the "
+    << b.fit_members << " fit members (beyond " << b.rule.sigma << " marked):\n\n| observable | mean | sd |";
+  for (const auto& label : labels) o << " " << label << " |";
+  o << "\n|---|---|---|";
+  for (std::size_t c = 0; c < labels.size(); ++c) o << "---|";
+  o << "\n";
+  std::vector<Eigen::VectorXd> z;
+  for (const auto& run : runs) z.push_back(standardised(b, run));
+  for (std::size_t k = 0; k < b.names.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    o << "| " << b.names[k] << " | " << fmt("%.6g", b.mean(i)) << " | " << fmt("%.3g", b.stddev(i)) << " |";
+    for (const auto& zr : z) o << " " << fmt("%+.2f", zr(i)) << (std::abs(zr(i)) > b.rule.sigma ? " **!**" : "") << " |";
+    o << "\n";
+  }
+  o << "\nThe runs' values: [img/" << csv << "](img/" << csv << ").\n";
+}
 
 /// The oracle suite's analytic groups (Chung & Ooi), run in this process with the fast engine.
 std::vector<validation::CheckRow> analytic_checks(const PortOptions& options, const fs::path& work, const fs::path& img) {
@@ -406,6 +440,7 @@ void write_report(const fs::path& out, const std::vector<SceneResult>& results, 
                             fmt("%g", b.rule.sigma) + " " + validation::shell_quote(b.scene) + " 1>&2";
     if (std::system(cmd.c_str()) == 0) o << "\n![PC scores of " << b.scene << "](img/" << png << ")\n";
     else std::fprintf(stderr, "[port] warning: plot %s not made\n", png.c_str());
+    write_standardised_table(o, b, r.runs, r.observed, img);
     if (!r.growth.empty()) {
       o << "\nGrowth diagnostic: RMS distance [m] between this machine's run of seed " << kGrowthSeed
         << " and the reference machine's (every 10th particle), and between pairs of reference members:\n\n"
@@ -474,7 +509,7 @@ int check_port(const PortOptions& options, const std::string& command) {
     const Baseline& b = baseline_of_runs(baselines, options.external);
     std::vector<Observables> runs;
     for (const auto& dir : options.external) runs.push_back(run_observables(port_scene(b.scene), dir));
-    results.push_back({&b, options.external, judge(b, runs), {}});
+    results.push_back({&b, options.external, judge(b, runs), {}, runs});
   } else {
     for (const auto& b : baselines) {
       if (!options.scenes.empty() && std::find(options.scenes.begin(), options.scenes.end(), b.scene) == options.scenes.end()) continue;
@@ -491,7 +526,7 @@ int check_port(const PortOptions& options, const std::string& command) {
       std::vector<GrowthRow> growth;
       if (options.first_port_seed == kGrowthSeed) growth = growth_rows(baseline_dir, b.scene, dirs.front());
       for (const auto& d : dirs) fs::remove_all(d);
-      results.push_back({&b, labels, judge(b, runs), growth});
+      results.push_back({&b, labels, judge(b, runs), growth, runs});
     }
   }
   if (results.empty()) throw std::invalid_argument("--scenes: none of them is in the baseline");
