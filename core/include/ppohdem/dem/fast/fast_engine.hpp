@@ -71,6 +71,22 @@ struct FastOptions {
   /// where the CPU has AVX (the same bits as one at a time; false: always one at a time, the
   /// tests' way to check both).
   bool vector_contacts = true;
+  /// Load balance over the ranks (docs/dem.md "Load balance"; scene `[parallel] balance`):
+  /// kBisection cuts the domain by recursive coordinate bisection of the particle count at the
+  /// start and re-cuts it at a list build when the most loaded rank owns more than
+  /// balance_threshold times the mean; kOff keeps the equal bricks of the initial box.
+  enum class Balance { kOff, kBisection };
+  Balance balance = Balance::kBisection;
+  double balance_threshold = 1.05;  ///< max/mean particles per rank that triggers a re-cut (>= 1)
+};
+
+/// Particles per rank (max/mean) and the exchanges so far (FastEngine::load_report).
+struct LoadReport {
+  double max_over_mean = 1.0;         ///< owned particles per rank, at the last list build
+  double equal_bricks_max_over_mean = 1.0;  ///< the same positions in the equal bricks of the initial box
+  long recuts = 0;                    ///< re-cuts during the run (not the one at the start)
+  long global_exchanges = 0;          ///< migrations that fell back to an all-rank exchange
+  std::size_t peers = 0;              ///< ranks this rank exchanges with (at the last list build)
 };
 
 /// How fast the force kernel's threads ran against each other (a diagnostic: no result depends
@@ -138,7 +154,9 @@ class FastEngine final : public DemEngine {
   std::optional<LargestOverlap> largest_overlap() const override;
 
   int ranks() const;                    ///< ranks the domain is decomposed over
-  std::array<int, 3> rank_grid() const;  ///< bricks per axis (product = ranks())
+  std::array<int, 3> rank_grid() const;  ///< bricks per axis (product = ranks()); {0, 0, 0}: bisection
+  /// Particles per rank and exchange counts (collective with several ranks).
+  LoadReport load_report() const;
   std::size_t owned_count() const;       ///< particles owned by this rank
   std::size_t ghost_count() const;       ///< ghosts held by this rank (since the last build)
   long neighbour_list_builds() const;  ///< number of list builds so far (diagnostics)
