@@ -110,6 +110,7 @@ TEST(Scene, UnknownKeyIsAnErrorNamingTheKey) {
 TEST(Scene, ParallelBalanceKeysAreReadAndCheckedNamingTheLine) {
   const fs::path dir = ppohdem::test::scratch_dir();
   const std::string base = fixture_text("scenes/two_spheres.toml");
+  fs::copy_file(ppohdem::test::fixture("scenes/two_spheres.csv"), dir / "two_spheres.csv");
   write(dir / "default.toml", base);
   const Scene plain = read_scene(dir / "default.toml");
   EXPECT_TRUE(plain.parallel.balance);
