@@ -265,16 +265,20 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     };
   }
   const std::uint64_t messages_before = options.comm->messages_sent();
+  const long exchanges_before = ranks > 1 ? dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report().exchanges : 0;
   const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
   // Particles per rank and the exchanges' messages (docs/dem.md "Load balance").
   std::optional<dem::fast::LoadReport> load;
   double messages_mean = 0.0, messages_max = 0.0;  // per rank per step
+  double all_to_all = 0.0;  // what the same exchanges would send as all-to-all ones (2 (P - 1) each)
   if (ranks > 1) {
     load = dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report();  // collective
     const double mine = static_cast<double>(options.comm->messages_sent() - messages_before) /
                         static_cast<double>(std::max(s.steps, 1L));
     messages_mean = options.comm->sum_over_ranks(mine) / ranks;
     messages_max = options.comm->max_over_ranks(mine);
+    const long exchanges = load->exchanges - exchanges_before;
+    all_to_all = 2.0 * (ranks - 1) * static_cast<double>(exchanges) / static_cast<double>(std::max(s.steps, 1L));
   }
   std::vector<std::size_t> outside;  // samples outside each object's grid, all ranks
   for (const dem::SceneObject& o : scene.objects) {
@@ -329,10 +333,11 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
               s.write_seconds > 0.0 ? static_cast<double>(s.write_bytes) / 1e6 / s.write_seconds : 0.0);
   if (load) {
     std::printf("load balance: %s, %ld re-cuts; particles per rank max/mean %.3f (equal bricks of the initial "
-                "box: %.3f); exchanges: %.2f messages per rank per step (max %.2f), %zu peers on rank 0, %ld global "
-                "migrations\n",
+                "box: %.3f); exchanges: %.2f messages per rank per step (max %.2f; as all-to-all exchanges: %.2f), %zu "
+                "peers on rank 0, %ld global migrations\n",
                 scene.parallel.balance ? "rcb" : "off", load->recuts, load->max_over_mean,
-                load->equal_bricks_max_over_mean, messages_mean, messages_max, load->peers, load->global_exchanges);
+                load->equal_bricks_max_over_mean, messages_mean, messages_max, all_to_all, load->peers,
+                load->global_exchanges);
   }
   if (alternation) alternation->report(particle_count);
   if (phases) phases->report(particle_count);

@@ -153,6 +153,7 @@ struct FastEngine::Impl {
   std::vector<int> peers;
   long recuts = 0;
   long global_exchanges = 0;
+  long exchanges = 0;  ///< LoadReport::exchanges
   std::size_t total = 0;  ///< particles of the whole system
   double skin = 0.0;      ///< [m]
   double r_max = 0.0;     ///< [m], over the whole system

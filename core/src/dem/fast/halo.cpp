@@ -36,6 +36,7 @@ void FastEngine::Impl::make_ghosts() {
     }
   }
   const std::vector<Bytes> from = comm->exchange_with(peers, to);
+  ++exchanges;
   for (std::size_t r = 0; r < ranks; ++r) {
     Unpacker u(from[r]);
     while (!u.done()) {
@@ -65,6 +66,7 @@ void FastEngine::Impl::refresh_ghosts() {
     });
   }
   const std::vector<Bytes> from = comm->exchange_with(peers, to, &sizes);
+  ++exchanges;
   std::size_t g = s.owned;
   for (std::size_t r = 0; r < ranks; ++r) {
     const std::size_t count = halo_recv[r];

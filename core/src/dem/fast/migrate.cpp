@@ -91,6 +91,7 @@ void FastEngine::Impl::migrate(History& h, bool global) {
     h.pack(p, k);
   }
   const std::vector<Bytes> from = comm->exchange_with(partners, to);
+  ++exchanges;
   for_each_particle_array(s, [&](auto& a) { permute(a, keep); });
   for (const Bytes& block : from) {
     Unpacker u(block);

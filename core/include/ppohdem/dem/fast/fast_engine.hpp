@@ -87,6 +87,7 @@ struct LoadReport {
   long recuts = 0;                    ///< re-cuts during the run (not the one at the start)
   long global_exchanges = 0;          ///< migrations that fell back to an all-rank exchange
   std::size_t peers = 0;              ///< ranks this rank exchanges with (at the last list build)
+  long exchanges = 0;                 ///< halo refreshes, ghost creations and migrations so far
 };
 
 /// How fast the force kernel's threads ran against each other (a diagnostic: no result depends
