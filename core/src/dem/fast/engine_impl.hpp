@@ -145,9 +145,10 @@ struct FastEngine::Impl {
   Decomposition decomposition;
   FastOptions::Balance balance = FastOptions::Balance::kOff;
   double balance_threshold = 1.05;
-  /// The equal bricks of the box of the particles at the start (or restart): the load report's
-  /// "before".
+  /// The equal bricks of the box of the scene's initial particles (also after a restore): the
+  /// bricks with the balance off and the load report's "before".
   Decomposition equal_bricks;
+  bool equal_bricks_made = false;
   /// The ranks whose bricks lie within the halo reach of this rank's (Decomposition::peers):
   /// halo and migrate exchange with them only.
   std::vector<int> peers;

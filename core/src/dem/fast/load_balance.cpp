@@ -15,7 +15,10 @@ void FastEngine::Impl::decompose_whole(const Particles& particles) {
     centres.push_back(p.position);
     ids.push_back(p.id);
   }
-  equal_bricks = Decomposition(comm->size(), centres);
+  // The equal bricks are those of the box at construction, the scene's initial particles
+  // (kept at a restore, as before there was a balance).
+  if (!equal_bricks_made) equal_bricks = Decomposition(comm->size(), centres);
+  equal_bricks_made = true;
   // Every rank holds the whole system here: the bisection counts without communication.
   decomposition = balance == FastOptions::Balance::kBisection
                       ? Decomposition::bisection(comm->size(), centres, ids, centres.size(), serial)
