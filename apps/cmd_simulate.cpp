@@ -265,6 +265,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     };
   }
   const std::uint64_t messages_before = options.comm->messages_sent();
+  const long steps_before = engine->step_count();  // a restart's step
   const long exchanges_before = ranks > 1 ? dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report().exchanges : 0;
   const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
   // Particles per rank and the exchanges' messages (docs/dem.md "Load balance").
@@ -273,12 +274,12 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   double all_to_all = 0.0;  // what the same exchanges would send as all-to-all ones (2 (P - 1) each)
   if (ranks > 1) {
     load = dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report();  // collective
-    const double mine = static_cast<double>(options.comm->messages_sent() - messages_before) /
-                        static_cast<double>(std::max(s.steps, 1L));
+    const double steps_run = static_cast<double>(std::max(engine->step_count() - steps_before, 1L));
+    const double mine = static_cast<double>(options.comm->messages_sent() - messages_before) / steps_run;
     messages_mean = options.comm->sum_over_ranks(mine) / ranks;
     messages_max = options.comm->max_over_ranks(mine);
     const long exchanges = load->exchanges - exchanges_before;
-    all_to_all = 2.0 * (ranks - 1) * static_cast<double>(exchanges) / static_cast<double>(std::max(s.steps, 1L));
+    all_to_all = 2.0 * (ranks - 1) * static_cast<double>(exchanges) / steps_run;
   }
   std::vector<std::size_t> outside;  // samples outside each object's grid, all ranks
   for (const dem::SceneObject& o : scene.objects) {

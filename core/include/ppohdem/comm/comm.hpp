@@ -46,8 +46,9 @@ class Comm {
   /// Point-to-point exchange with `peers` only (ascending, without this rank): `to[i]` goes
   /// to peers[i], and the result's [i] is what peers[i] sent. Every peer must list this rank
   /// among its own peers and call this at the same point (the relation is symmetric).
-  /// `sizes`: the byte counts to receive, if known (one message per peer each way); else the
-  /// counts are exchanged first (two). Not collective over the other ranks.
+  /// `sizes`: the byte counts to receive, if known (one message per peer each way, none for an
+  /// empty block: the sender's block must then be empty too); else the counts are exchanged
+  /// first (two, also for empty blocks). Not collective over the other ranks.
   virtual std::vector<Bytes> exchange_with(const std::vector<int>& peers, const std::vector<Bytes>& to,
                                            const std::vector<std::size_t>* sizes = nullptr) const = 0;
   /// Point-to-point messages this rank has sent in exchange() and exchange_with() so far
