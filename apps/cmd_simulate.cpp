@@ -265,7 +265,8 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     };
   }
   const std::uint64_t messages_before = options.comm->messages_sent();
-  const long steps_before = engine->step_count();  // a restart's step
+  // The first step of the run (run_scene restores a checkpoint itself).
+  const long steps_before = run_options.restart ? run_options.restart->engine.step : engine->step_count();
   const long exchanges_before = ranks > 1 ? dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report().exchanges : 0;
   const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
   // Particles per rank and the exchanges' messages (docs/dem.md "Load balance").

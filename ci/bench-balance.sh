@@ -119,6 +119,6 @@ PY
 done
 {
   echo
-  echo "Command: bash ci/bench-balance.sh $([ "$FULL" -eq 1 ] && echo --full) --ranks \"$RANKS\" --window $WINDOW; $(date -u +%Y-%m-%d) on $(hostname), $(nproc) cores (ranks oversubscribed beyond them); load: $(uptime | sed 's/.*load/load/')"
+  echo "Command: bash ci/bench-balance.sh $([ "$FULL" -eq 1 ] && echo --full) --ranks \"$RANKS\" --window $WINDOW; $(date -u +%Y-%m-%d) on $(hostname), $(getconf _NPROCESSORS_ONLN) cores (ranks oversubscribed beyond them); load: $(uptime | sed 's/.*load/load/')"
 } >> "$TABLE"
 cat "$TABLE"
