@@ -41,8 +41,11 @@
 ///     loop; planar walls are evaluated inline (PlaneWall's formulas), other boundaries
 ///     (distance-field objects) through Boundary::contact.
 /// Domain decomposition over MPI ranks (FastOptions::comm; docs/dem.md "Domain decomposition"):
-/// Cartesian bricks, each rank owning the particles whose centre lies in its brick, ghosts
-/// within 2 R_max + skin of it; halo and migrate plans built at every list build (the rebuild
+/// bricks (by default a recursive coordinate bisection of the particle count, re-cut at a list
+/// build when the load drifts: FastOptions::balance, docs/dem.md "Load balance"), each rank
+/// owning the particles whose centre lies in its brick, ghosts within 2 R_max + skin of it,
+/// exchanged with the ranks whose bricks lie within that reach only; halo and migrate plans
+/// built at every list build (the rebuild
 /// decision is the maximum over ranks), the halo refreshed after every drift; contact
 /// histories migrate with their particle. Per-particle forces are summed in an order of the partners'
 /// global ids and global sums in construction order, so the trajectories, energies and outputs are BIT
