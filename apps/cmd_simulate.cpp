@@ -24,7 +24,9 @@
 // line aside), written by rank 0; checkpoints hold the whole system, so a run restarts at any
 // rank count. The reference engine runs on one rank only.
 // (docs/reliability.md; a run that fails a check exits 1 with a diagnosis).
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -186,6 +188,9 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     dem::fast::FastOptions fast_options;
     if (ranks > 1) fast_options.comm = options.comm;
     fast_options.skip_far_objects = !options.no_object_skip;
+    fast_options.balance = scene.parallel.balance ? dem::fast::FastOptions::Balance::kBisection
+                                                  : dem::fast::FastOptions::Balance::kOff;
+    fast_options.balance_threshold = scene.parallel.balance_threshold;
     engine = std::make_unique<dem::fast::FastEngine>(scene.setup, fast_options);
   } else {
     engine = factory->second(scene.setup);
@@ -200,8 +205,13 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   if (root) std::fprintf(stderr, "%s\n", header.c_str());
   if (root && ranks > 1) {
     const auto grid = dynamic_cast<const dem::fast::FastEngine&>(*engine).rank_grid();
-    std::fprintf(stderr, "simulate: domain decomposed over %d ranks (%d x %d x %d bricks)\n", ranks, grid[0], grid[1],
-                 grid[2]);
+    if (scene.parallel.balance) {
+      std::fprintf(stderr, "simulate: domain decomposed over %d ranks (recursive bisection by particle count, "
+                   "re-cut when max/mean > %g)\n", ranks, scene.parallel.balance_threshold);
+    } else {
+      std::fprintf(stderr, "simulate: domain decomposed over %d ranks (%d x %d x %d bricks)\n", ranks, grid[0],
+                   grid[1], grid[2]);
+    }
   }
   if (root) std::fprintf(stderr, "simulate: %zu particles, %zu boundaries, dt %g s (limit %g s: %s), %ld steps\n",
                particle_count, scene.setup.boundaries.size(), scene.setup.dt,
@@ -256,7 +266,24 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
       if (alternation) alternation->at_step_boundary(done);
     };
   }
+  const std::uint64_t messages_before = options.comm->messages_sent();
+  // The first step of the run (run_scene restores a checkpoint itself).
+  const long steps_before = run_options.restart ? run_options.restart->engine.step : engine->step_count();
+  const long exchanges_before = ranks > 1 ? dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report().exchanges : 0;
   const dem::RunSummary s = dem::run_scene(*engine, scene, header, std::cerr, run_options);
+  // Particles per rank and the exchanges' messages (docs/dem.md "Load balance").
+  std::optional<dem::fast::LoadReport> load;
+  double messages_mean = 0.0, messages_max = 0.0;  // per rank per step
+  double all_to_all = 0.0;  // what the same exchanges would send as all-to-all ones (2 (P - 1) each)
+  if (ranks > 1) {
+    load = dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report();  // collective
+    const double steps_run = static_cast<double>(std::max(engine->step_count() - steps_before, 1L));
+    const double mine = static_cast<double>(options.comm->messages_sent() - messages_before) / steps_run;
+    messages_mean = options.comm->sum_over_ranks(mine) / ranks;
+    messages_max = options.comm->max_over_ranks(mine);
+    const long exchanges = load->exchanges - exchanges_before;
+    all_to_all = 2.0 * (ranks - 1) * static_cast<double>(exchanges) / steps_run;
+  }
   std::vector<std::size_t> outside;  // samples outside each object's grid, all ranks
   for (const dem::SceneObject& o : scene.objects) {
     outside.push_back(static_cast<std::size_t>(
@@ -310,6 +337,14 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
               read.seconds, setup_seconds, s.wall_seconds, s.gather_seconds, s.write_seconds,
               static_cast<double>(s.write_bytes) / 1e6,
               s.write_seconds > 0.0 ? static_cast<double>(s.write_bytes) / 1e6 / s.write_seconds : 0.0);
+  if (load) {
+    std::printf("load balance: %s, %ld re-cuts; particles per rank max/mean %.3f (equal bricks of the initial "
+                "box: %.3f); exchanges: %.2f messages per rank per step (max %.2f; as all-to-all exchanges: %.2f), %zu "
+                "peers on rank 0, %ld global migrations\n",
+                scene.parallel.balance ? "rcb" : "off", load->recuts, load->max_over_mean,
+                load->equal_bricks_max_over_mean, messages_mean, messages_max, all_to_all, load->peers,
+                load->global_exchanges);
+  }
   if (alternation) alternation->report(particle_count);
   if (phases) phases->report(particle_count);
 }

@@ -105,6 +105,37 @@ TEST(Scene, UnknownKeyIsAnErrorNamingTheKey) {
   EXPECT_NE(msg.find("s.toml:"), std::string::npos) << msg;
 }
 
+// [parallel] (docs/dem.md "Load balance"): the defaults, both values of balance and the
+// threshold are read; a wrong value names the key, the file and the line.
+TEST(Scene, ParallelBalanceKeysAreReadAndCheckedNamingTheLine) {
+  const fs::path dir = ppohdem::test::scratch_dir();
+  const std::string base = fixture_text("scenes/two_spheres.toml");
+  fs::copy_file(ppohdem::test::fixture("scenes/two_spheres.csv"), dir / "two_spheres.csv");
+  write(dir / "default.toml", base);
+  const Scene plain = read_scene(dir / "default.toml");
+  EXPECT_TRUE(plain.parallel.balance);
+  EXPECT_EQ(plain.parallel.balance_threshold, 1.05);
+  write(dir / "off.toml", base + "\n[parallel]\nbalance = \"off\"\nbalance_threshold = 1.2\n");
+  const Scene off = read_scene(dir / "off.toml");
+  EXPECT_FALSE(off.parallel.balance);
+  EXPECT_EQ(off.parallel.balance_threshold, 1.2);
+  write(dir / "rcb.toml", base + "\n[parallel]\nbalance = \"rcb\"\n");
+  EXPECT_TRUE(read_scene(dir / "rcb.toml").parallel.balance);
+  const auto lines = static_cast<int>(std::count(base.begin(), base.end(), '\n'));
+  const std::string at = "bad.toml:" + std::to_string(lines + 3);  // the line of the bad key
+  write(dir / "bad.toml", base + "\n[parallel]\nbalance = \"zoltan\"\n");
+  std::string msg = error_of([&] { read_scene(dir / "bad.toml"); });
+  EXPECT_NE(msg.find("[parallel] balance: expected \"rcb\" or \"off\", found \"zoltan\""), std::string::npos) << msg;
+  EXPECT_NE(msg.find(at), std::string::npos) << msg;
+  write(dir / "bad.toml", base + "\n[parallel]\nbalance_threshold = 0.9\n");
+  msg = error_of([&] { read_scene(dir / "bad.toml"); });
+  EXPECT_NE(msg.find("balance_threshold: expected a number >= 1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(at), std::string::npos) << msg;
+  write(dir / "bad.toml", base + "\n[parallel]\nbalanse = \"rcb\"\n");
+  msg = error_of([&] { read_scene(dir / "bad.toml"); });
+  EXPECT_NE(msg.find("unknown key 'balanse'"), std::string::npos) << msg;
+}
+
 // [simulation] energy_balance = false through the whole run: the key is read, the run ends
 // with the same final state as the tracked run, and energy.csv carries nan in the three
 // contact columns (and finite kinetic energies). A non-boolean value names the key.

@@ -59,12 +59,16 @@ Bricks bricks_from(const std::string& output, const ppohdem::dem::Particles& ini
   return b;
 }
 
+/// The scene with `[parallel] balance = "off"`: the equal bricks that Bricks recomputes.
+void balance_off(const fs::path& scene) { std::ofstream(scene, std::ios::app) << "\n[parallel]\nbalance = \"off\"\n"; }
+
 }  // namespace
 
 // The bed: 15 x 15 x 19 = 4275 spheres, so that each of 4 ranks owns about kParallelMin = 1024
 // particles or more and the OpenMP loops really run on 2 threads. The counts are odd so that
 // the brick faces of 2 and 4 ranks (mid-planes of the box of centres) pass through lattice
-// centres: those particles change owner at the first builds.
+// centres: those particles change owner at the first builds. With the load balance on (the
+// default: bricks by bisection of the particle count) and off (equal bricks).
 TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
   const long steps = 200, every = 100;
   const fs::path ref_dir = scratch("bed_reference");
@@ -74,11 +78,16 @@ TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
   const std::string ref_final = body(ref_dir / "out" / "final.csv");
   const auto initial = ppohdem::dem::read_particles_csv(ref_dir / "bed.csv");
   std::string first_energy, first_frame;
+  for (const bool balance : {true, false}) {
   for (const int ranks : {1, 2, 4}) {
     for (const int threads : {1, 2}) {
-      SCOPED_TRACE("ranks " + std::to_string(ranks) + ", threads " + std::to_string(threads));
-      const fs::path dir = scratch("bed_np" + std::to_string(ranks) + "_nt" + std::to_string(threads));
+      if (!balance && ranks == 1) continue;  // one rank has no bricks
+      SCOPED_TRACE("ranks " + std::to_string(ranks) + ", threads " + std::to_string(threads) +
+                   (balance ? ", balance rcb" : ", balance off"));
+      const fs::path dir = scratch("bed_np" + std::to_string(ranks) + "_nt" + std::to_string(threads) +
+                                   (balance ? "" : "_off"));
       const fs::path scene = write_bed(dir, 15, 15, 19, steps, every);
+      if (!balance) balance_off(scene);
       const CommandResult run = run_mpi(ranks, threads, scene, "--engine fast --quiet");
       ASSERT_EQ(run.exit_code, 0) << run.output;
       // The state: bitwise the reference engine's (each particle sums its contacts in
@@ -93,7 +102,7 @@ TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
       }
       EXPECT_EQ(energy, first_energy);
       EXPECT_EQ(frame, first_frame);
-      if (ranks == 4 && threads == 1) {
+      if (ranks == 4 && threads == 1 && !balance) {
         // The test is only worth something if particles changed owner and touching pairs
         // straddle a brick face: counted from the data, with the bricks' definition.
         const auto final = ppohdem::dem::read_particles_csv(dir / "out" / "final.csv");
@@ -114,6 +123,7 @@ TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
         EXPECT_GE(straddling, 10) << "no contact across a brick face exercised";
       }
     }
+  }
   }
 }
 
@@ -153,6 +163,7 @@ TEST(FastEngineMpi, LinearLawBedIsBitwiseTheReferencesAcrossRanks) {
     const fs::path dir = scratch("linear_np" + std::to_string(ranks));
     const fs::path scene = write_bed(dir, 15, 15, 19, steps, every);
     linear(scene);
+    balance_off(scene);  // the equal bricks, which Bricks recomputes
     const CommandResult run = run_mpi(ranks, 1, scene, "--engine fast --quiet");
     ASSERT_EQ(run.exit_code, 0) << run.output;
     EXPECT_EQ(body(dir / "out" / "final.csv"), ref_final);
@@ -243,7 +254,7 @@ TEST(FastEngineMpi, ANonFiniteMotionStopsEveryRankWithTheParticleNamed) {
                                   << "[output]\ndir = \"out\"\nevery = 0\n";
     const CommandResult run = run_mpi(2, 1, dir / "s.toml", "--engine fast --quiet");
     EXPECT_EQ(run.exit_code, 1) << run.output;
-    EXPECT_NE(run.output.find("ranks (2 x 1 x 1 bricks)"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("over 2 ranks (recursive bisection by particle count"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("run stopped at step 1"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("particle id 1: the velocity is not finite"), std::string::npos) << run.output;
     EXPECT_TRUE(fs::exists(dir / "out" / "failed_checkpoint.bin"));
@@ -319,6 +330,82 @@ TEST(FastEngineMpi, RollingResistanceIsTheReferencesAcrossRanksAndRestarts) {
   const CommandResult plain = run_mpi(1, 1, ppohdem::dem::test::write_pile_scene(plain_dir, steps, every), "--quiet");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   EXPECT_NE(body(plain_dir / "out" / "final.csv"), body(ref_dir / "out" / "final.csv"));
+}
+
+/// The numbers of `simulate`'s "load balance:" line.
+struct LoadLine {
+  long recuts = -1;
+  double max_over_mean = 0.0, equal_bricks = 0.0, messages = 0.0, messages_max = 0.0, all_to_all = 0.0;
+  int peers = -1;
+  long global = -1;
+};
+LoadLine load_line(const std::string& output) {
+  LoadLine l;
+  const auto at = output.find("load balance: ");
+  EXPECT_NE(at, std::string::npos) << output;
+  if (at == std::string::npos) return l;
+  const auto comma = output.find(", ", at);
+  std::sscanf(output.c_str() + comma,
+              ", %ld re-cuts; particles per rank max/mean %lf (equal bricks of the initial box: %lf); exchanges: %lf "
+              "messages per rank per step (max %lf; as all-to-all exchanges: %lf), %d peers on rank 0, %ld global",
+              &l.recuts, &l.max_over_mean, &l.equal_bricks, &l.messages, &l.messages_max, &l.all_to_all, &l.peers,
+              &l.global);
+  return l;
+}
+
+// A cloud of 16 x 8 x 8 frictional spheres drifting at 2 m/s along x (plus the bed's
+// velocities of up to 0.3 m/s, so they collide) moves 6 mm in 300 steps: in the equal bricks
+// (4 slabs of 8.4 mm across x) the leading slab ends with far more than its share. Balanced,
+// the bricks are re-cut and the load stays within the threshold; the files are the same bits
+// as one rank's either way. The equal-bricks figure of the balanced run (the same positions
+// counted in the equal bricks) is the unbalanced run's own load, to the last digit: the list
+// builds, and so the positions counted, do not depend on the bricks. The ranks send fewer
+// messages than the same exchanges as all-to-all ones (2 (P - 1) each): the halo refresh of
+// every step sends one message per peer (its size is known), not a count and a block to
+// every rank; unbalanced, the 4 slabs have 1 or 2 peers, and the all-to-all figure is 6 per
+// step or more.
+TEST(FastEngineMpi, ADriftingCloudIsReCutAndStaysBitwise) {
+  auto write_cloud = [](const fs::path& dir, const std::string& parallel) {
+    const fs::path scene = write_bed(dir, 16, 8, 8, 300, 0);
+    replace_in_scene(scene, "gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, 0.0]");
+    auto ps = ppohdem::dem::read_particles_csv(dir / "bed.csv");
+    for (auto& p : ps) p.velocity.x() += 2.0;
+    ppohdem::dem::write_particles_csv(dir / "bed.csv", ps, "drifting cloud");
+    std::ifstream in(scene);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string toml = text.str();
+    toml = toml.substr(0, toml.find("[[wall]]")) + toml.substr(toml.find("[output]"));  // no walls
+    std::ofstream(scene) << toml << parallel;
+    return scene;
+  };
+  const fs::path one_dir = scratch("drift_np1");
+  const CommandResult one = run_mpi(1, 1, write_cloud(one_dir, ""), "--engine fast --quiet");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const fs::path off_dir = scratch("drift_off");
+  const CommandResult off = run_mpi(4, 1, write_cloud(off_dir, "[parallel]\nbalance = \"off\"\n"), "--engine fast --quiet");
+  ASSERT_EQ(off.exit_code, 0) << off.output;
+  const fs::path rcb_dir = scratch("drift_rcb");
+  const CommandResult rcb = run_mpi(4, 2, write_cloud(rcb_dir, "[parallel]\nbalance = \"rcb\"\n"), "--engine fast --quiet");
+  ASSERT_EQ(rcb.exit_code, 0) << rcb.output;
+  for (const char* file : {"final.csv", "energy.csv"}) {
+    EXPECT_EQ(body(off_dir / "out" / file), body(one_dir / "out" / file)) << file;
+    EXPECT_EQ(body(rcb_dir / "out" / file), body(one_dir / "out" / file)) << file;
+  }
+  const LoadLine unbalanced = load_line(off.output), balanced = load_line(rcb.output);
+  EXPECT_EQ(unbalanced.recuts, 0);
+  EXPECT_GT(unbalanced.max_over_mean, 1.4) << off.output;  // the leading slab: about 1.7
+  EXPECT_EQ(balanced.equal_bricks, unbalanced.max_over_mean) << rcb.output;
+  EXPECT_GE(balanced.recuts, 1) << rcb.output;
+  // Within the threshold 1.05 (the load at the last build, after its re-cut if any).
+  EXPECT_LE(balanced.max_over_mean, 1.05) << rcb.output;
+  EXPECT_LT(balanced.messages_max, balanced.all_to_all) << rcb.output;
+  EXPECT_GE(balanced.messages, 1.0) << rcb.output;  // not vacuous: the counter counts
+  EXPECT_EQ(balanced.global, 0) << rcb.output;
+  EXPECT_LE(unbalanced.peers, 2) << off.output;  // rank 0's slab: one neighbour
+  EXPECT_GE(unbalanced.all_to_all, 6.0) << off.output;
+  EXPECT_LT(unbalanced.messages_max, 0.5 * unbalanced.all_to_all) << off.output;
+  EXPECT_EQ(unbalanced.global, 0) << off.output;
 }
 
 TEST(FastEngineMpi, ReferenceEngineOnSeveralRanksIsRefused) {

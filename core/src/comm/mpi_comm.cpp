@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
@@ -79,10 +80,67 @@ class MpiComm final : public Comm {
     check(MPI_Alltoallv(send.data(), send_counts.data(), send_offsets.data(), MPI_BYTE, recv.data(),
                         recv_counts.data(), recv_offsets.data(), MPI_BYTE, MPI_COMM_WORLD),
           "MPI_Alltoallv");
+    messages_sent_ += 2 * static_cast<std::uint64_t>(ranks - 1);
     std::vector<Bytes> from(static_cast<std::size_t>(ranks));
     for (std::size_t r = 0; r < from.size(); ++r) {
       from[r].assign(recv.begin() + recv_offsets[r], recv.begin() + recv_offsets[r] + recv_counts[r]);
     }
+    return from;
+  }
+
+  std::vector<double> sum_each_over_ranks(std::vector<double> values) const override {
+    return reduce_each(std::move(values), MPI_SUM);
+  }
+  std::vector<double> max_each_over_ranks(std::vector<double> values) const override {
+    return reduce_each(std::move(values), MPI_MAX);
+  }
+
+  // Nonblocking sends and receives with the peers (tag 1: counts, tag 2: bytes); a rank
+  // talks to its peers only, so the cost does not grow with the number of ranks.
+  std::vector<Bytes> exchange_with(const std::vector<int>& peers, const std::vector<Bytes>& to,
+                                   const std::vector<std::size_t>* sizes) const override {
+    if (to.size() != peers.size()) throw std::runtime_error("exchange_with: one block per peer expected");
+    const std::size_t n = peers.size();
+    std::vector<std::uint64_t> recv_counts(n, 0), send_counts(n, 0);
+    std::vector<MPI_Request> requests;
+    requests.reserve(2 * n);
+    if (sizes != nullptr) {
+      if (sizes->size() != n) throw std::runtime_error("exchange_with: one size per peer expected");
+      for (std::size_t i = 0; i < n; ++i) recv_counts[i] = (*sizes)[i];
+    } else {
+      for (std::size_t i = 0; i < n; ++i) {
+        send_counts[i] = to[i].size();
+        requests.emplace_back();
+        check(MPI_Irecv(&recv_counts[i], 1, MPI_UINT64_T, peers[i], 1, MPI_COMM_WORLD, &requests.back()), "MPI_Irecv");
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        requests.emplace_back();
+        check(MPI_Isend(&send_counts[i], 1, MPI_UINT64_T, peers[i], 1, MPI_COMM_WORLD, &requests.back()), "MPI_Isend");
+      }
+      check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+      messages_sent_ += n;
+      requests.clear();
+    }
+    // With the sizes known, an empty block is neither sent nor awaited (both sides know it is
+    // empty); with the counts exchanged every block goes, so that the counts are matched.
+    std::vector<Bytes> from(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      from[i].resize(recv_counts[i]);
+      if (sizes != nullptr && recv_counts[i] == 0) continue;
+      requests.emplace_back();
+      check(MPI_Irecv(from[i].data(), to_int_count(from[i].size()), MPI_BYTE, peers[i], 2, MPI_COMM_WORLD,
+                      &requests.back()),
+            "MPI_Irecv");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (sizes != nullptr && to[i].empty()) continue;
+      requests.emplace_back();
+      check(MPI_Isend(to[i].data(), to_int_count(to[i].size()), MPI_BYTE, peers[i], 2, MPI_COMM_WORLD,
+                      &requests.back()),
+            "MPI_Isend");
+      ++messages_sent_;
+    }
+    check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
     return from;
   }
 
@@ -116,6 +174,13 @@ class MpiComm final : public Comm {
   double reduce(double value, MPI_Op op) const {
     double result = 0.0;
     check(MPI_Allreduce(&value, &result, 1, MPI_DOUBLE, op, MPI_COMM_WORLD), "MPI_Allreduce");
+    return result;
+  }
+
+  std::vector<double> reduce_each(std::vector<double> values, MPI_Op op) const {
+    std::vector<double> result(values.size());
+    check(MPI_Allreduce(values.data(), result.data(), to_int_count(values.size()), MPI_DOUBLE, op, MPI_COMM_WORLD),
+          "MPI_Allreduce");
     return result;
   }
 

@@ -38,7 +38,7 @@ class SceneParser {
   Scene parse() {
     toml::table root = parse_toml();
     check_keys(root, "", {"simulation", "material", "material_pair", "contact", "particles", "wall", "object", "insert",
-                          "output", "checks"});
+                          "output", "checks", "parallel"});
     Scene scene;
     SimulationSetup& s = scene.setup;
     s.source = name_;
@@ -177,6 +177,24 @@ class SceneParser {
       }
     } else {
       scene.output.dir = relative_to_scene("out");
+    }
+
+    if (const toml::node* parallel_node = root.get("parallel")) {  // docs/dem.md "Load balance"
+      const toml::table* parallel = parallel_node->as_table();
+      if (!parallel) fail(parallel_node, "[parallel] must be a table");
+      check_keys(*parallel, "parallel", {"balance", "balance_threshold"});
+      if (parallel->contains("balance")) {
+        const std::string balance = require_string(*parallel, "parallel", "balance");
+        if (balance != "rcb" && balance != "off") {
+          fail(parallel->get("balance"), "[parallel] balance: expected \"rcb\" or \"off\", found \"" + balance + "\"");
+        }
+        scene.parallel.balance = balance == "rcb";
+      }
+      const auto threshold = optional_number(*parallel, "parallel", "balance_threshold");
+      if (threshold && !(*threshold >= 1.0)) {
+        fail(parallel->get("balance_threshold"), "[parallel] balance_threshold: expected a number >= 1 (max/mean particles per rank)");
+      }
+      scene.parallel.balance_threshold = threshold.value_or(scene.parallel.balance_threshold);
     }
 
     if (const toml::node* checks_node = root.get("checks")) {  // run_diagnostics.hpp

@@ -5,6 +5,7 @@
 /// (core/src/comm/mpi_comm.cpp, built only with PPOHDEM_ENABLE_MPI); the serial communicator is
 /// real behaviour for one rank (its gather copies), not a no-op (CoMD's parallel.c habit).
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <span>
@@ -38,9 +39,28 @@ class Comm {
   virtual std::vector<Bytes> exchange(const std::vector<Bytes>& to) const = 0;
   /// Every rank's block on every rank, in rank order (blocks may differ in length). Collective.
   virtual std::vector<Bytes> allgather(const Bytes& local) const = 0;
+  /// Element-wise sum / maximum of `values` over all ranks (the same length on every rank),
+  /// returned on every rank. Collective.
+  virtual std::vector<double> sum_each_over_ranks(std::vector<double> values) const = 0;
+  virtual std::vector<double> max_each_over_ranks(std::vector<double> values) const = 0;
+  /// Point-to-point exchange with `peers` only (ascending, without this rank): `to[i]` goes
+  /// to peers[i], and the result's [i] is what peers[i] sent. Every peer must list this rank
+  /// among its own peers and call this at the same point (the relation is symmetric).
+  /// `sizes`: the byte counts to receive, if known (one message per peer each way, none for an
+  /// empty block: the sender's block must then be empty too); else the counts are exchanged
+  /// first (two, also for empty blocks). Not collective over the other ranks.
+  virtual std::vector<Bytes> exchange_with(const std::vector<int>& peers, const std::vector<Bytes>& to,
+                                           const std::vector<std::size_t>* sizes = nullptr) const = 0;
+  /// Point-to-point messages this rank has sent in exchange() and exchange_with() so far
+  /// (exchange(): one count and one block to every other rank, 2 (P - 1); the collectives of
+  /// the sums are not counted): the figure of docs/dem.md "Neighbour-only exchanges".
+  std::uint64_t messages_sent() const { return messages_sent_; }
   /// Ends every rank of the program with exit status `code` (MPI_Abort): for an error met by
   /// some ranks only, which would otherwise leave the others waiting in a collective.
   [[noreturn]] virtual void abort(int code) const = 0;
+
+ protected:
+  mutable std::uint64_t messages_sent_ = 0;
 };
 
 /// One rank: gather returns the block itself, reductions return their argument.
@@ -64,6 +84,14 @@ class SerialComm final : public Comm {
     return {to[0]};
   }
   std::vector<Bytes> allgather(const Bytes& local) const override { return {local}; }
+  std::vector<double> sum_each_over_ranks(std::vector<double> values) const override { return values; }
+  std::vector<double> max_each_over_ranks(std::vector<double> values) const override { return values; }
+  /// One rank has no peers.
+  std::vector<Bytes> exchange_with(const std::vector<int>& peers, const std::vector<Bytes>& to,
+                                   const std::vector<std::size_t>* /*sizes*/ = nullptr) const override {
+    if (!peers.empty() || !to.empty()) throw std::invalid_argument("SerialComm::exchange_with: one rank has no peers");
+    return {};
+  }
   [[noreturn]] void abort(int code) const override { std::exit(code); }
 };
 

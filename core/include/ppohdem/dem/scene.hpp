@@ -45,6 +45,11 @@
 ///                attempts. With [[insert]], [particles] is optional (the scene starts empty).
 ///   [output]     dir (relative to the scene file), every (steps), formats = ["csv","vtk",
 ///                "pov"], progress = true (stderr)
+///   [parallel]   the fast engine under MPI (docs/dem.md "Load balance"): balance = "rcb"
+///                (default: recursive coordinate bisection by particle count, re-cut at a
+///                list build) | "off" (equal bricks of the initial box), balance_threshold
+///                (default 1.05, >= 1: re-cut when the most loaded rank owns more than this
+///                times the mean particle count)
 ///   [checks]     run diagnostics (run_diagnostics.hpp): max_overlap [-] (default 0.1 of the
 ///                radius), max_energy_growth [-] (default 0.05), stop_on_escape (default
 ///                true), domain_min, domain_max [m] (optional box)
@@ -79,8 +84,15 @@ struct SceneObject {
   std::size_t boundary_index = 0;
 };
 
+/// [parallel] (docs/dem.md "Load balance"): read by `ppohdem simulate` under mpirun.
+struct ParallelSpec {
+  bool balance = true;               ///< "rcb" (true) or "off"
+  double balance_threshold = 1.05;   ///< max/mean particles per rank that triggers a re-cut
+};
+
 struct Scene {
   SimulationSetup setup;
+  ParallelSpec parallel;
   std::vector<SceneObject> objects;
   long steps = 0;
   OutputSpec output;

@@ -9,6 +9,12 @@
 // c = (r mod d0, (r / d0) mod d1, r / (d0 d1)). The outer bricks extend to infinity, so every
 // point has exactly one owner: owner(x) = the brick index floor((x - lo) / h) clamped to
 // [0, d - 1] on each axis. Ownership only changes at a neighbour-list build (migration).
+//
+// Or (bisected(): `[parallel] balance = "rcb"`, docs/dem.md "Load balance") the bricks of a
+// recursive coordinate bisection by particle count (recursive_bisection.hpp), re-cut during
+// the run; owner() walks its tree. Either way each rank's brick is a box (outer faces at
+// infinity), and the peers of a rank are the ranks whose bricks lie within the halo reach of
+// its own: the only ranks it exchanges ghosts and migrants with.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -16,6 +22,7 @@
 #include <vector>
 
 #include "ppohdem/dem/particle.hpp"
+#include "recursive_bisection.hpp"
 
 namespace ppohdem::dem::fast {
 
@@ -53,13 +60,45 @@ class Decomposition {
       dims_[axis] *= f;
     }
     for (int a = 0; a < 3; ++a) h_[a] = extent[a] > 0.0 ? extent[a] / dims_[a] : 1.0;
+    const double inf = std::numeric_limits<double>::infinity();
+    boxes_.resize(static_cast<std::size_t>(ranks));
+    for (int r = 0; r < ranks; ++r) {
+      const std::array<int, 3> c = {r % dims_[0], (r / dims_[0]) % dims_[1], r / (dims_[0] * dims_[1])};
+      for (int a = 0; a < 3; ++a) {
+        boxes_[static_cast<std::size_t>(r)].lower[a] = c[a] == 0 ? -inf : lo_[a] + c[a] * h_[a];
+        boxes_[static_cast<std::size_t>(r)].upper[a] = c[a] == dims_[a] - 1 ? inf : lo_[a] + (c[a] + 1) * h_[a];
+      }
+    }
+  }
+
+  /// The bricks of a recursive coordinate bisection of the particles x[0..n), id[0..n) by count
+  /// (recursive_bisection.hpp): the whole system with a SerialComm, else each rank's own
+  /// particles (collective).
+  static Decomposition bisection(int ranks, const std::vector<Vec3>& x, const std::vector<std::int64_t>& id,
+                                 std::size_t n, const Comm& comm) {
+    Decomposition d;
+    d.ranks_ = ranks;
+    d.dims_ = {0, 0, 0};
+    d.tree_ = bisect(ranks, x, id, n, comm);
+    const double inf = std::numeric_limits<double>::infinity();
+    d.boxes_.assign(static_cast<std::size_t>(ranks), Box{{-inf, -inf, -inf}, {inf, inf, inf}});
+    d.set_boxes(0, d.boxes_.front());
+    return d;
   }
 
   int ranks() const { return ranks_; }
+  /// Bricks per axis of the equal bricks; {0, 0, 0} for a bisection.
   const std::array<int, 3>& dims() const { return dims_; }
+  bool bisected() const { return !tree_.empty(); }
 
-  /// The rank owning a particle centred at x.
-  int owner(const Vec3& x) const {
+  /// The rank owning a particle centred at x with this id (the id decides on a bisection's
+  /// cut plane only).
+  int owner(const Vec3& x, std::int64_t id) const {
+    if (bisected()) {
+      std::size_t at = 0;
+      while (tree_[at].ranks > 1) at = static_cast<std::size_t>(tree_[at].goes_left(x, id) ? tree_[at].left : tree_[at].right);
+      return tree_[at].first_rank;
+    }
     std::array<int, 3> c{};
     for (int a = 0; a < 3; ++a) c[a] = coordinate(a, x[a]);
     return c[0] + dims_[0] * (c[1] + dims_[1] * c[2]);
@@ -68,19 +107,60 @@ class Decomposition {
   /// Squared distance from x to rank r's brick (0 inside) [m^2]. Bricks are taken
   /// `slack` [m] larger on every side, so rounding at a face never hides a neighbour.
   double distance2(int r, const Vec3& x, double slack) const {
-    const std::array<int, 3> c = {r % dims_[0], (r / dims_[0]) % dims_[1], r / (dims_[0] * dims_[1])};
+    const Box& b = boxes_[static_cast<std::size_t>(r)];
     double d2 = 0.0;
     for (int a = 0; a < 3; ++a) {
-      const double inf = std::numeric_limits<double>::infinity();
-      const double lower = c[a] == 0 ? -inf : lo_[a] + c[a] * h_[a] - slack;
-      const double upper = c[a] == dims_[a] - 1 ? inf : lo_[a] + (c[a] + 1) * h_[a] + slack;
+      const double lower = b.lower[a] - slack, upper = b.upper[a] + slack;
       const double gap = x[a] < lower ? lower - x[a] : (x[a] > upper ? x[a] - upper : 0.0);
       d2 += gap * gap;
     }
     return d2;
   }
 
+  /// The ranks other than `me` whose bricks, each `slack` larger on every side, come closer
+  /// than `reach` to me's (ascending). Symmetric: r is a peer of me iff me is one of r's.
+  std::vector<int> peers(int me, double reach, double slack) const {
+    std::vector<int> out;
+    const Box& mine = boxes_[static_cast<std::size_t>(me)];
+    for (int r = 0; r < ranks_; ++r) {
+      if (r == me) continue;
+      const Box& b = boxes_[static_cast<std::size_t>(r)];
+      double d2 = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        // Gap between [lo1, hi1] and [lo2, hi2], both grown by slack (and empty gaps 0).
+        const double gap = std::max({0.0, (b.lower[a] - slack) - (mine.upper[a] + slack),
+                                     (mine.lower[a] - slack) - (b.upper[a] + slack)});
+        d2 += gap * gap;
+      }
+      if (d2 < reach * reach) out.push_back(r);
+    }
+    return out;
+  }
+
  private:
+  struct Box {
+    std::array<double, 3> lower, upper;
+  };
+
+  /// The boxes of the leaves under tree node `at`, whose box is `box`. A cut's plane is the
+  /// double of its key, kept inside the node's box (a NaN or outside cut: an empty side).
+  void set_boxes(std::size_t at, const Box& box) {
+    const BisectionNode& node = tree_[at];
+    if (node.ranks == 1) {
+      boxes_[static_cast<std::size_t>(node.first_rank)] = box;
+      return;
+    }
+    const int a = node.axis;
+    double cut = from_ordered_key(node.key);
+    if (!(cut >= box.lower[a])) cut = box.lower[a];  // also NaN
+    cut = std::min(cut, box.upper[a]);
+    Box left = box, right = box;
+    left.upper[a] = cut;
+    right.lower[a] = cut;
+    set_boxes(static_cast<std::size_t>(node.left), left);
+    set_boxes(static_cast<std::size_t>(node.right), right);
+  }
+
   int coordinate(int a, double x) const {
     const double u = std::floor((x - lo_[a]) / h_[a]);
     if (!(u >= 0.0)) return 0;  // also NaN: rank 0 on this axis (the run diagnostics stop the run)
@@ -91,6 +171,9 @@ class Decomposition {
   std::array<int, 3> dims_ = {1, 1, 1};
   Vec3 lo_ = Vec3::Zero();
   std::array<double, 3> h_ = {1.0, 1.0, 1.0};
+  std::vector<Box> boxes_ = std::vector<Box>(1, Box{{-kInf, -kInf, -kInf}, {kInf, kInf, kInf}});
+  std::vector<BisectionNode> tree_;  ///< empty: the equal bricks
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace ppohdem::dem::fast

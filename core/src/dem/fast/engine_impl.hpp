@@ -143,6 +143,18 @@ struct FastEngine::Impl {
   SerialComm serial;
   const Comm* comm = &serial;
   Decomposition decomposition;
+  FastOptions::Balance balance = FastOptions::Balance::kOff;
+  double balance_threshold = 1.05;
+  /// The equal bricks of the box of the scene's initial particles (also after a restore): the
+  /// bricks with the balance off and the load report's "before".
+  Decomposition equal_bricks;
+  bool equal_bricks_made = false;
+  /// The ranks whose bricks lie within the halo reach of this rank's (Decomposition::peers):
+  /// halo and migrate exchange with them only.
+  std::vector<int> peers;
+  long recuts = 0;
+  long global_exchanges = 0;
+  long exchanges = 0;  ///< LoadReport::exchanges
   std::size_t total = 0;  ///< particles of the whole system
   double skin = 0.0;      ///< [m]
   double skin_fraction = 0.2;  ///< FastOptions::skin_fraction (insertion may raise R_max)
@@ -166,9 +178,9 @@ struct FastEngine::Impl {
   bool screens_finite = true;
   mutable Particles out;  ///< particles() in construction order (whole system)
   mutable bool out_valid = false;
-  // Halo plan (built at every list build, applied after every drift): send[r] = storage indices
-  // of the owned particles that rank r holds as ghosts, in the order they are packed; recv[r] =
-  // how many ghosts came from rank r (stored contiguously after the owned ones, by rank).
+  // Halo plan (built at every list build, applied after every drift): send[i] = storage indices
+  // of the owned particles that peers[i] holds as ghosts, in the order they are packed; recv[i] =
+  // how many ghosts came from peers[i] (stored contiguously after the owned ones, by peer).
   std::vector<std::vector<std::uint32_t>> halo_send;
   std::vector<std::uint32_t> halo_recv;
   /// Histories dropped at the last list build: (construction index, partner id, energy) [J].
@@ -205,8 +217,25 @@ struct FastEngine::Impl {
   void take_history(History& h) const;
 
   /// Migration (the migrate plan: each owned particle's new owner from its centre) with its
-  /// history; arrivals are appended in rank order.
-  void migrate(History& h);
+  /// history; arrivals are appended in rank order. With the peers only, unless a particle
+  /// goes to a rank that is not a peer (farther than the halo reach) on any rank, or `global`:
+  /// then with every rank (counted in global_exchanges unless `global`).
+  void migrate(History& h, bool global = false);
+
+  /// The bricks of the particles given (the whole system, on every rank): equal bricks and,
+  /// with balance on, the bisection; and the peers.
+  void decompose_whole(const Particles& particles);
+
+  /// Load balance at a list build, after the migration: if the most loaded rank owns more
+  /// than balance_threshold times the mean, re-cut by bisection of the owned particles
+  /// (collective) and migrate to the new bricks.
+  void rebalance(History& h);
+
+  /// FastEngine::load_report (collective).
+  LoadReport load_report() const;
+
+  /// peers := the ranks within the halo reach (2 R_max + skin) of this rank's brick.
+  void update_peers();
 
   /// Ghosts (the halo plan): every owned particle whose centre is within the interaction
   /// range 2 R_max + skin of rank r's brick goes to rank r with all its fields.

@@ -30,9 +30,12 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   m.skin = options.skin_fraction * m.r_max;
   m.skip_far_objects = options.skip_far_objects;
   m.skin_fraction = options.skin_fraction;
-  std::vector<Vec3> centres;
-  for (const Particle& p : setup.particles) centres.push_back(p.position);
-  m.decomposition = Decomposition(m.comm->size(), centres);
+  m.balance = options.balance;
+  if (!(options.balance_threshold >= 1.0)) {
+    throw InputError("balance threshold: expected >= 1 (max/mean particles per rank), got " +
+                     std::to_string(options.balance_threshold));
+  }
+  m.balance_threshold = options.balance_threshold;
   // Only the materials are kept (a copy of the setup would hold a second copy of the particles).
   for (std::size_t k = 0; k < setup.material_count(); ++k) m.materials.push_back(setup.material_at(k));
   m.load_particles(setup.particles);
@@ -53,6 +56,7 @@ long FastEngine::step_count() const { return impl_->steps; }
 double FastEngine::time() const { return static_cast<double>(impl_->steps) * impl_->s.dt; }
 int FastEngine::ranks() const { return impl_->comm->size(); }
 std::array<int, 3> FastEngine::rank_grid() const { return impl_->decomposition.dims(); }
+LoadReport FastEngine::load_report() const { return impl_->load_report(); }
 std::size_t FastEngine::owned_count() const { return impl_->s.owned; }
 std::size_t FastEngine::ghost_count() const { return impl_->s.size() - impl_->s.owned; }
 

@@ -16,12 +16,10 @@ void FastEngine::insert_particles(const Particles& added) {
     p.torque.setZero();
     state.particles.push_back(p);
   }
-  // The bricks over all centres now (a fill starts from few or no particles); ownership only
-  // changes at a reload or a list build, and no result depends on it.
-  std::vector<Vec3> centres;
-  centres.reserve(state.particles.size());
-  for (const Particle& p : state.particles) centres.push_back(p.position);
-  m.decomposition = Decomposition(m.comm->size(), centres);
+  // The bricks over all centres now (a fill starts from few or no particles): the reload
+  // re-cuts them, and makes the equal bricks (balance off) over the new box too; no result
+  // depends on them.
+  m.equal_bricks_made = false;
   double r_max = 0.0;
   for (const Particle& p : state.particles) r_max = std::max(r_max, p.radius);
   m.skin = std::max(m.skin, m.skin_fraction * r_max);  // the list's skin for the largest radius

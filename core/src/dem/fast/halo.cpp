@@ -4,27 +4,39 @@
 
 namespace ppohdem::dem::fast {
 
+namespace {
+
+/// Slack: bricks one part in 1e6 of the reach larger, so that the rounding of a brick face
+/// (relative 1e-16 of the coordinates) never hides a partner; extra ghosts cost nothing but
+/// memory (the list keeps only pairs within R_i + R_j + skin).
+double slack_of(double reach) { return 1e-6 * reach; }
+
+}  // namespace
+
+void FastEngine::Impl::update_peers() {
+  const double reach = 2.0 * r_max + skin;
+  peers = distributed() ? decomposition.peers(comm->rank(), reach, slack_of(reach)) : std::vector<int>{};
+}
+
 void FastEngine::Impl::make_ghosts() {
-  const std::size_t ranks = static_cast<std::size_t>(comm->size());
+  update_peers();  // r_max may have changed (a restore)
+  const std::size_t ranks = peers.size();
   halo_send.assign(ranks, {});
   halo_recv.assign(ranks, 0);
   if (!distributed()) return;
-  const int me = comm->rank();
   const double reach = 2.0 * r_max + skin;
-  // Slack: bricks one part in 1e6 of the reach larger, so that the rounding of a brick face
-  // (relative 1e-16 of the coordinates) never hides a partner; extra ghosts cost nothing but
-  // memory (the list keeps only pairs within R_i + R_j + skin).
-  const double slack = 1e-6 * reach;
+  const double slack = slack_of(reach);
   std::vector<Bytes> to(ranks);
   for (std::size_t k = 0; k < s.owned; ++k) {
-    for (int r = 0; r < static_cast<int>(ranks); ++r) {
-      if (r == me || decomposition.distance2(r, s.x[k], slack) >= reach * reach) continue;
-      halo_send[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(k));
-      Packer p(to[static_cast<std::size_t>(r)]);
+    for (std::size_t i = 0; i < ranks; ++i) {
+      if (decomposition.distance2(peers[i], s.x[k], slack) >= reach * reach) continue;
+      halo_send[i].push_back(static_cast<std::uint32_t>(k));
+      Packer p(to[i]);
       pack_particle(p, s, k);
     }
   }
-  const std::vector<Bytes> from = comm->exchange(to);
+  const std::vector<Bytes> from = comm->exchange_with(peers, to);
+  ++exchanges;
   for (std::size_t r = 0; r < ranks; ++r) {
     Unpacker u(from[r]);
     while (!u.done()) {
@@ -40,6 +52,8 @@ void FastEngine::Impl::refresh_ghosts() {
   constexpr std::size_t kMovingArrays = 5;  // for_each_moving_array
   const std::size_t ranks = halo_send.size();
   std::vector<Bytes> to(ranks);
+  std::vector<std::size_t> sizes(ranks);  // known from the plan: one message each way
+  for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * kMovingArrays * sizeof(Vec3);
   for (std::size_t r = 0; r < ranks; ++r) {
     const std::vector<std::uint32_t>& send = halo_send[r];
     to[r].resize(send.size() * kMovingArrays * sizeof(Vec3));
@@ -51,7 +65,8 @@ void FastEngine::Impl::refresh_ghosts() {
       }
     });
   }
-  const std::vector<Bytes> from = comm->exchange(to);
+  const std::vector<Bytes> from = comm->exchange_with(peers, to, &sizes);
+  ++exchanges;
   std::size_t g = s.owned;
   for (std::size_t r = 0; r < ranks; ++r) {
     const std::size_t count = halo_recv[r];

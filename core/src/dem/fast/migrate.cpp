@@ -11,11 +11,12 @@ void FastEngine::Impl::load_particles(const Particles& particles) {
   for_each_particle_array(q, [](auto& a) { a.clear(); });
   total = particles.size();
   r_max = 0.0;
+  for (const Particle& p : particles) r_max = std::max(r_max, p.radius);
+  if (distributed()) decompose_whole(particles);
   const int me = comm->rank();
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Particle& p = particles[i];
-    r_max = std::max(r_max, p.radius);
-    if (distributed() && decomposition.owner(p.position) != me) continue;
+    if (distributed() && decomposition.owner(p.position, p.id) != me) continue;
     q.id.push_back(p.id);
     q.original.push_back(static_cast<std::uint32_t>(i));
     q.x.push_back(p.position);
@@ -47,28 +48,50 @@ void FastEngine::Impl::load_particles(const Particles& particles) {
   q.records.clear();
   q.record_first.assign(n + 1, 0);
   q.split_stale = true;
-  halo_send.assign(static_cast<std::size_t>(comm->size()), {});
-  halo_recv.assign(static_cast<std::size_t>(comm->size()), 0);
+  halo_send.assign(peers.size(), {});
+  halo_recv.assign(peers.size(), 0);
   out_valid = false;
 }
 
-void FastEngine::Impl::migrate(History& h) {
+void FastEngine::Impl::migrate(History& h, bool global) {
   const int me = comm->rank();
-  std::vector<Bytes> to(static_cast<std::size_t>(comm->size()));
+  std::vector<int> dest(s.owned);
+  bool beyond_peers = false;  // a particle for a rank that is not a peer
+  for (std::size_t k = 0; k < s.owned; ++k) {
+    dest[k] = decomposition.owner(s.x[k], s.id[k]);
+    if (dest[k] != me && !std::binary_search(peers.begin(), peers.end(), dest[k])) beyond_peers = true;
+  }
+  // Within a skin a particle moves far less than the halo reach, so its new owner is a peer;
+  // a farther jump (or a re-cut) takes every rank, decided by all (docs/dem.md "Neighbour-only
+  // exchanges").
+  if (!global && comm->max_over_ranks(beyond_peers ? 1.0 : 0.0) > 0.0) {
+    global = true;
+    ++global_exchanges;
+  }
+  std::vector<int> partners = peers;
+  if (global) {
+    partners.clear();
+    for (int r = 0; r < comm->size(); ++r) {
+      if (r != me) partners.push_back(r);
+    }
+  }
+  std::vector<int> slot(static_cast<std::size_t>(comm->size()), -1);  // rank -> index in partners
+  for (std::size_t i = 0; i < partners.size(); ++i) slot[static_cast<std::size_t>(partners[i])] = static_cast<int>(i);
+  std::vector<Bytes> to(partners.size());
   std::vector<std::uint32_t> keep;
   History kept;
   for (std::size_t k = 0; k < s.owned; ++k) {
-    const int dest = decomposition.owner(s.x[k]);
-    if (dest == me) {
+    if (dest[k] == me) {
       keep.push_back(static_cast<std::uint32_t>(k));
       kept.append_from(h, k);
       continue;
     }
-    Packer p(to[static_cast<std::size_t>(dest)]);
+    Packer p(to[static_cast<std::size_t>(slot[static_cast<std::size_t>(dest[k])])]);
     pack_particle(p, s, k);
     h.pack(p, k);
   }
-  const std::vector<Bytes> from = comm->exchange(to);
+  const std::vector<Bytes> from = comm->exchange_with(partners, to);
+  ++exchanges;
   for_each_particle_array(s, [&](auto& a) { permute(a, keep); });
   for (const Bytes& block : from) {
     Unpacker u(block);

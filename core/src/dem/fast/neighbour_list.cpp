@@ -10,7 +10,10 @@ void FastEngine::Impl::build_lists() {
   History& h = history;
   take_history(h);
   for_each_particle_array(s, [&](auto& a) { a.resize(s.owned); });  // drop the ghosts
-  if (distributed()) migrate(h);
+  if (distributed()) {
+    migrate(h);
+    rebalance(h);
+  }
   const CellOrder sorted = sort_owned_by_cell();
   make_ghosts();
   // With one rank there are no ghosts: the search's cells are the sort's (the same grid,

@@ -41,8 +41,11 @@
 ///     loop; planar walls are evaluated inline (PlaneWall's formulas), other boundaries
 ///     (distance-field objects) through Boundary::contact.
 /// Domain decomposition over MPI ranks (FastOptions::comm; docs/dem.md "Domain decomposition"):
-/// Cartesian bricks, each rank owning the particles whose centre lies in its brick, ghosts
-/// within 2 R_max + skin of it; halo and migrate plans built at every list build (the rebuild
+/// bricks (by default a recursive coordinate bisection of the particle count, re-cut at a list
+/// build when the load drifts: FastOptions::balance, docs/dem.md "Load balance"), each rank
+/// owning the particles whose centre lies in its brick, ghosts within 2 R_max + skin of it,
+/// exchanged with the ranks whose bricks lie within that reach only; halo and migrate plans
+/// built at every list build (the rebuild
 /// decision is the maximum over ranks), the halo refreshed after every drift; contact
 /// histories migrate with their particle. Per-particle forces are summed in an order of the partners'
 /// global ids and global sums in construction order, so the trajectories, energies and outputs are BIT
@@ -74,6 +77,23 @@ struct FastOptions {
   /// Skip the particles outside an object's reach at each evaluation (Boundary::reach; the
   /// same bits as evaluating them all, which false does: the tests' way to check it).
   bool skip_far_objects = true;
+  /// Load balance over the ranks (docs/dem.md "Load balance"; scene `[parallel] balance`):
+  /// kBisection cuts the domain by recursive coordinate bisection of the particle count at the
+  /// start and re-cuts it at a list build when the most loaded rank owns more than
+  /// balance_threshold times the mean; kOff keeps the equal bricks of the initial box.
+  enum class Balance { kOff, kBisection };
+  Balance balance = Balance::kBisection;
+  double balance_threshold = 1.05;  ///< max/mean particles per rank that triggers a re-cut (>= 1)
+};
+
+/// Particles per rank (max/mean) and the exchanges so far (FastEngine::load_report).
+struct LoadReport {
+  double max_over_mean = 1.0;         ///< owned particles per rank, at the last list build
+  double equal_bricks_max_over_mean = 1.0;  ///< the same positions in the equal bricks of the initial box
+  long recuts = 0;                    ///< re-cuts during the run (not the one at the start)
+  long global_exchanges = 0;          ///< migrations that fell back to an all-rank exchange
+  std::size_t peers = 0;              ///< ranks this rank exchanges with (at the last list build)
+  long exchanges = 0;                 ///< halo refreshes, ghost creations and migrations so far
 };
 
 /// How fast the force kernel's threads ran against each other (a diagnostic: no result depends
@@ -144,7 +164,9 @@ class FastEngine final : public DemEngine {
   std::optional<LargestOverlap> largest_overlap() const override;
 
   int ranks() const;                    ///< ranks the domain is decomposed over
-  std::array<int, 3> rank_grid() const;  ///< bricks per axis (product = ranks())
+  std::array<int, 3> rank_grid() const;  ///< bricks per axis (product = ranks()); {0, 0, 0}: bisection
+  /// Particles per rank and exchange counts (collective with several ranks).
+  LoadReport load_report() const;
   std::size_t owned_count() const;       ///< particles owned by this rank
   std::size_t ghost_count() const;       ///< ghosts held by this rank (since the last build)
   long neighbour_list_builds() const;  ///< number of list builds so far (diagnostics)

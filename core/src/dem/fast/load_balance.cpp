@@ -1,0 +1,72 @@
+// Load balance: the bricks at the start (equal, or a bisection by particle count) and their
+// re-cut at a list build when the ranks' particle counts drift apart (docs/dem.md "Load
+// balance"). No result depends on the bricks (docs/dem.md "Domain decomposition"), only the
+// time does.
+#include "engine_impl.hpp"
+
+namespace ppohdem::dem::fast {
+
+void FastEngine::Impl::decompose_whole(const Particles& particles) {
+  std::vector<Vec3> centres;
+  std::vector<std::int64_t> ids;
+  centres.reserve(particles.size());
+  ids.reserve(particles.size());
+  for (const Particle& p : particles) {
+    centres.push_back(p.position);
+    ids.push_back(p.id);
+  }
+  // The equal bricks are those of the box at construction, the scene's initial particles
+  // (kept at a restore, as before there was a balance).
+  if (!equal_bricks_made) equal_bricks = Decomposition(comm->size(), centres);
+  equal_bricks_made = true;
+  // Every rank holds the whole system here: the bisection counts without communication.
+  decomposition = balance == FastOptions::Balance::kBisection
+                      ? Decomposition::bisection(comm->size(), centres, ids, centres.size(), serial)
+                      : equal_bricks;
+  update_peers();
+}
+
+void FastEngine::Impl::rebalance(History& h) {
+  if (balance != FastOptions::Balance::kBisection || !distributed()) return;
+  // The load is the particle count: the force pass costs about the same per particle in the
+  // dense phases that dominate a run, and a count is the same on every run, so the bricks
+  // are reproducible (a measured time is not).
+  const double most = comm->max_over_ranks(static_cast<double>(s.owned));
+  const double mean = comm->sum_over_ranks(static_cast<double>(s.owned)) / comm->size();
+  if (!(most > balance_threshold * mean)) return;
+  decomposition = Decomposition::bisection(comm->size(), s.x, s.id, s.owned, *comm);
+  ++recuts;
+  migrate(h, /*global=*/true);  // the new bricks may lie anywhere
+  update_peers();
+}
+
+LoadReport FastEngine::Impl::load_report() const {
+  LoadReport r;
+  r.recuts = recuts;
+  r.global_exchanges = global_exchanges;
+  r.peers = peers.size();
+  r.exchanges = exchanges;
+  if (!distributed()) return r;
+  const int ranks = comm->size();
+  // The counts of the last build's positions (x_build: the owners were decided there) in the
+  // current bricks and in the equal ones.
+  std::vector<double> counts(2 * static_cast<std::size_t>(ranks), 0.0);
+  counts[static_cast<std::size_t>(comm->rank())] = static_cast<double>(s.owned);
+  for (std::size_t k = 0; k < s.owned; ++k) {
+    counts[static_cast<std::size_t>(ranks + equal_bricks.owner(s.x_build[k], s.id[k]))] += 1.0;
+  }
+  counts = comm->sum_each_over_ranks(std::move(counts));
+  auto max_over_mean = [&](std::size_t first) {
+    double most = 0.0, sum = 0.0;
+    for (int q = 0; q < ranks; ++q) {
+      most = std::max(most, counts[first + static_cast<std::size_t>(q)]);
+      sum += counts[first + static_cast<std::size_t>(q)];
+    }
+    return sum > 0.0 ? most / (sum / ranks) : 1.0;
+  };
+  r.max_over_mean = max_over_mean(0);
+  r.equal_bricks_max_over_mean = max_over_mean(static_cast<std::size_t>(ranks));
+  return r;
+}
+
+}  // namespace ppohdem::dem::fast
