@@ -46,11 +46,12 @@ class ExactSum {
     const auto bits = std::bit_cast<std::uint64_t>(x);
     const unsigned biased = static_cast<unsigned>(bits >> 52) & 0x7ffu;
     const std::uint64_t fraction = bits & ((std::uint64_t{1} << 52) - 1);
+    if ((bits << 1) == 0) return;  // +0 or -0 adds nothing
+    nonzero_ = true;
     if (biased == 0x7ffu) {  // inf or NaN
       ++words_[kLimbs + (fraction != 0 ? 2 : (bits >> 63))];
       return;
     }
-    if ((bits << 1) == 0) return;  // +0 or -0 adds nothing
     const std::uint64_t m = biased != 0 ? fraction | (std::uint64_t{1} << 52) : fraction;
     const unsigned s = biased != 0 ? biased - 1 : 0;
     const unsigned k = s / 32;
@@ -66,11 +67,19 @@ class ExactSum {
   }
 
   /// Adds another sum's terms (exact: the result does not depend on the order of merges).
-  void merge(ExactSum other) {
-    other.propagate_carries();
+  void merge(const ExactSum& other) {
+    if (!other.nonzero_) return;  // nothing to add (most of a step's load sums)
+    ExactSum carried = other;
+    carried.propagate_carries();
     propagate_carries();
-    for (std::size_t k = 0; k < kWords; ++k) words_[k] += other.words_[k];
+    for (std::size_t k = 0; k < kWords; ++k) words_[k] += carried.words_[k];
     terms_ = 2;  // each limb is now below 2^33 < 2 * 2^53
+    nonzero_ = true;
+  }
+
+  /// Back to the empty sum (cheap if nothing was added).
+  void reset() {
+    if (nonzero_) *this = ExactSum{};
   }
 
   /// The limbs with their carries propagated (each but the last in [0, 2^32)) and the counts:
@@ -84,13 +93,17 @@ class ExactSum {
   /// The sum of the words of other sums (words() of each, added elementwise).
   static ExactSum from_words(std::span<const std::int64_t, kWords> words) {
     ExactSum sum;
-    for (std::size_t k = 0; k < kWords; ++k) sum.words_[k] = words[k];
+    for (std::size_t k = 0; k < kWords; ++k) {
+      sum.words_[k] = words[k];
+      sum.nonzero_ = sum.nonzero_ || words[k] != 0;
+    }
     sum.terms_ = kTermsBetweenCarries - 1;  // unknown history: propagate at the next add
     return sum;
   }
 
   /// The exact sum rounded to the nearest double, ties to even (+-inf beyond the range).
   double value() const {
+    if (!nonzero_) return 0.0;
     const std::int64_t plus_inf = words_[kLimbs], minus_inf = words_[kLimbs + 1], nan = words_[kLimbs + 2];
     if (nan != 0 || (plus_inf != 0 && minus_inf != 0)) return std::numeric_limits<double>::quiet_NaN();
     if (plus_inf != 0) return std::numeric_limits<double>::infinity();
@@ -152,6 +165,7 @@ class ExactSum {
 
   std::array<std::int64_t, kWords> words_{};
   unsigned terms_ = 0;  ///< terms added since the last carry propagation
+  bool nonzero_ = false;  ///< some term was not zero (else the words are all zero)
 };
 
 /// K exact sums side by side (e.g. the energy terms of the particles).

@@ -61,6 +61,9 @@ struct EvaluationSums {
   void merge(const EvaluationSums& other) {
     for (std::size_t c = 0; c < sums.size(); ++c) sums[c].merge(other.sums[c]);
   }
+  void reset() {
+    for (ExactSum& sum : sums) sum.reset();
+  }
   /// Every rank's sums merged, on every rank: ONE allreduce of the sums' integer words
   /// (Comm::sum_over_ranks), whatever the particle count. Collective.
   void merge_over_ranks(const Comm& comm) {
@@ -209,6 +212,7 @@ struct FastEngine::Impl {
   /// summed in the evaluation's pass (reduce_one_rank); invalid after a (re)load.
   std::array<double, 3> motion_sums{};
   bool motion_valid = false;
+  mutable std::vector<EvaluationSums> thread_sums;  ///< sum_owned's partial sums, one per thread (reused)
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
   /// A list build's histories (build_lists): kept between builds so that their storage is

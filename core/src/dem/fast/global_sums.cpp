@@ -8,12 +8,16 @@ namespace ppohdem::dem::fast {
 EvaluationSums FastEngine::Impl::sum_owned(bool contact, bool motion, bool with_loads) const {
   const std::size_t nb = s.boundaries.size();
   const std::size_t n = s.owned;
-  EvaluationSums all(nb);
-  PPOHDEM_OMP(omp parallel if (n >= kParallelMin))
+  const auto threads = static_cast<std::size_t>(n >= kParallelMin ? max_threads() : 1);
+  if (thread_sums.size() < threads || thread_sums.front().sums.size() != EvaluationSums(nb).sums.size()) {
+    thread_sums.assign(threads, EvaluationSums(nb));
+  }
+  PPOHDEM_OMP(omp parallel num_threads(static_cast<int>(threads)) if (threads > 1))
   {
-    EvaluationSums mine(nb);  // this thread's partial sums; merged in any order below
-    ExactSum* e = mine.energy();
-    PPOHDEM_OMP(omp for schedule(static) nowait)
+    EvaluationSums& mine = thread_sums[static_cast<std::size_t>(thread_id())];  // merged in any order below
+    mine.reset();
+    ExactSum* const e = mine.energy();
+    PPOHDEM_OMP(omp for schedule(static))
     for (std::size_t k = 0; k < n; ++k) {
       const FastState::ParticleTerms& c = s.terms[k];
       if (contact) {
@@ -29,9 +33,9 @@ EvaluationSums FastEngine::Impl::sum_owned(bool contact, bool motion, bool with_
       }
       if (with_loads) add_records(mine, k);
     }
-    PPOHDEM_OMP(omp critical(ppohdem_fast_sums))
-    all.merge(mine);
   }
+  EvaluationSums all = thread_sums[0];
+  for (std::size_t t = 1; t < threads; ++t) all.merge(thread_sums[t]);
   return all;
 }
 
