@@ -9,7 +9,7 @@ EvaluationSums FastEngine::Impl::sum_owned(bool contact, bool motion, bool with_
   const std::size_t nb = s.boundaries.size();
   const std::size_t n = s.owned;
   const auto threads = static_cast<std::size_t>(n >= kParallelMin ? max_threads() : 1);
-  if (thread_sums.size() < threads || thread_sums.front().sums.size() != EvaluationSums(nb).sums.size()) {
+  if (thread_sums.size() < threads || thread_sums.front().sums.size() != EvaluationSums::kEnergies + 6 * nb) {
     thread_sums.assign(threads, EvaluationSums(nb));
   }
   PPOHDEM_OMP(omp parallel num_threads(static_cast<int>(threads)) if (threads > 1))
