@@ -1,4 +1,4 @@
-// Write throughput of the particle frame formats (docs/performance.md "I/O"): the CSV frame
+// Write throughput of the particle frame formats (docs/performance.md "I/O: VTU frames"): the CSV frame
 // (write_particles_csv, %.17g text) against the VTK XML frame (write_vtu_frame, appended raw
 // binary), on N particles of a bed-like state, interleaved rounds, best of each. Never run in
 // ctest (a benchmark, not a test).
