@@ -77,6 +77,7 @@ struct SimulateOptions {
   std::optional<std::uint64_t> perturb_seed;  // move every coordinate by one ulp (dem/perturb.hpp)
   std::string output_dir;             // overrides the scene's [output] dir
   std::vector<long> phases;           // step numbers ending the timed phases (phase_timing.hpp)
+  bool no_object_skip = false;        // fast engine: evaluate every particle against every object
 };
 
 /// `--alternate-threads`: the run switches the OpenMP thread count at every K-th step boundary
@@ -181,9 +182,10 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   const dem::TimeStepLimit limit = dem::time_step_limit(scene.setup);
   const auto setup_start = std::chrono::steady_clock::now();
   std::unique_ptr<dem::DemEngine> engine;  // validates (dt, overlaps, ...)
-  if (ranks > 1) {
+  if (ranks > 1 || (options.no_object_skip && factory->second == &dem::fast::FastEngine::make)) {
     dem::fast::FastOptions fast_options;
-    fast_options.comm = options.comm;
+    if (ranks > 1) fast_options.comm = options.comm;
+    fast_options.skip_far_objects = !options.no_object_skip;
     engine = std::make_unique<dem::fast::FastEngine>(scene.setup, fast_options);
   } else {
     engine = factory->second(scene.setup);
@@ -375,6 +377,9 @@ void register_simulate(CLI::App& app, const Comm& comm) {
                   "report the wall time of each phase of the run, the phases ending at these steps (e.g. "
                   "500,2500,6000) and at the last step")
       ->delimiter(',');
+  cmd->add_flag("--no-object-skip", options->no_object_skip,
+                "fast engine: evaluate every particle against every object, also far ones (a diagnostic: "
+                "the same results, slower; docs/objects.md \"Far objects cost nothing\")");
   cmd->add_option("--output-dir", options->output_dir, "write the outputs here instead of the scene's [output] dir");
   cmd->add_option("--data-length", options->data_length,
                   "legacy: length L [m] of the distance data (default: from input_constants_voxelizer.dat)");

@@ -244,6 +244,63 @@ static void test_dem(const char* fixtures, const char* work) {
   OK(ppohdem_engine_destroy(NULL));
 }
 
+/* A motion program through the C API. The cube [-1,1]^3 (its exact field on 17^3 nodes over
+ * [-2,2]^3: linear above the top face's middle, so the trilinear contact is a plane's) rests
+ * for 0.01 s, then rises at v = 0.1 m/s and hits a sphere floating (no gravity) 0.01 m above
+ * it, then stops at 0.3 s. An elastic (e = 1) impact with a face moving at v leaves the sphere
+ * at 2 v. Tolerance 1e-6 relative: the Hertz contact lasts ~0.028 s = 280 steps of 1e-4 s, and
+ * the integrator's error in the rebound speed is second order in dt / t_c (3e-8 here). */
+static void test_motion_program(void) {
+  const double gravity[3] = {0, 0, 0};
+  ppohdem_grid grid = {{-2, -2, -2}, {0.25, 0.25, 0.25}, {17, 17, 17}};
+  static double phi[17 * 17 * 17];
+  ppohdem_field* field = NULL;
+  ppohdem_scene* scene = NULL;
+  ppohdem_engine* engine = NULL;
+  const double pos[3] = {0.0, 0.0, 1.11}, radius = 0.1;
+  double x[3], v[3];
+  ppohdem_motion_segment program[3];
+  memset(program, 0, sizeof program);
+  program[0].type = PPOHDEM_MOTION_REST;
+  program[0].start = 0.0;
+  program[1].type = PPOHDEM_MOTION_TRANSLATE;
+  program[1].start = 0.01;
+  program[1].velocity[2] = 0.1;
+  program[2].type = PPOHDEM_MOTION_REST;
+  program[2].start = 0.3;
+
+  OK(ppohdem_sdf_build_from_arrays(kCubeVertices, 8, kCubeTriangles, 12, &grid, "exact", phi, 17 * 17 * 17));
+  OK(ppohdem_field_create(&grid, phi, 17 * 17 * 17, &field));
+  OK(ppohdem_scene_create(1e-4, gravity, 2500, 1e7, 0.3, 1.0, 0.0, &scene));
+  OK(ppohdem_scene_add_particles(scene, 1, NULL, pos, NULL, &radius, NULL));
+  OK(ppohdem_scene_add_object_program(scene, field, "cube", NULL, program, 3));
+  OK(ppohdem_engine_create(scene, "fast", &engine));
+  OK(ppohdem_engine_advance(engine, 99)); /* t = 0.0099 s: the cube has not moved */
+  OK(ppohdem_engine_read(engine, PPOHDEM_VELOCITY, v, 1));
+  CHECK(v[0] == 0 && v[1] == 0 && v[2] == 0);
+  OK(ppohdem_engine_advance(engine, 3901)); /* t = 0.4 s: the contact ended near 0.14 s */
+  OK(ppohdem_engine_read(engine, PPOHDEM_VELOCITY, v, 1));
+  OK(ppohdem_engine_read(engine, PPOHDEM_POSITION, x, 1));
+  CHECK(fabs(v[2] - 0.2) < 1e-6 * 0.2);
+  CHECK(v[0] == 0 && v[1] == 0 && x[0] == 0 && x[1] == 0);
+  OK(ppohdem_engine_destroy(engine));
+
+  /* Errors name the segment and the field. */
+  program[1].start = 0.0;
+  FAILS(ppohdem_scene_add_object_program(scene, field, "cube", NULL, program, 3), PPOHDEM_ERR_ARGUMENT, "segments[1].start");
+  program[1].start = 0.01;
+  program[1].type = PPOHDEM_MOTION_ROTATE; /* axis left zero */
+  FAILS(ppohdem_scene_add_object_program(scene, field, "cube", NULL, program, 3), PPOHDEM_ERR_ARGUMENT, "segments[1].axis");
+  program[1].type = PPOHDEM_MOTION_VIBRATE_TRANSLATE; /* frequency left zero */
+  FAILS(ppohdem_scene_add_object_program(scene, field, "cube", NULL, program, 3), PPOHDEM_ERR_ARGUMENT, "segments[1].frequency");
+  program[1].type = 9;
+  FAILS(ppohdem_scene_add_object_program(scene, field, "cube", NULL, program, 3), PPOHDEM_ERR_ARGUMENT, "segments[1].type");
+  FAILS(ppohdem_scene_add_object_program(scene, field, "cube", NULL, program, 0), PPOHDEM_ERR_ARGUMENT, "segment_count");
+  FAILS(ppohdem_scene_add_object_program(scene, field, "cube", NULL, NULL, 3), PPOHDEM_ERR_ARGUMENT, "segments");
+  OK(ppohdem_field_destroy(field));
+  OK(ppohdem_scene_destroy(scene));
+}
+
 static void write_file(const char* path, const char* text) {
   FILE* f = fopen(path, "w");
   CHECK(f != NULL);
@@ -383,6 +440,7 @@ int main(int argc, char** argv) {
   test_sdf(argv[1]);
   test_field();
   test_dem(argv[1], work);
+  test_motion_program();
   test_legacy(argv[1], work);
   if (failures == 0) {
     char command[128];

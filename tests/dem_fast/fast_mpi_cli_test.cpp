@@ -20,31 +20,19 @@
 #include "../apps/cli_runner.hpp"
 #include "../reliability/reliability_scenes.hpp"
 #include "bed_scene.hpp"
+#include "mpi_runner.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
 #include "vtu_test_reader.hpp"
 
 namespace fs = std::filesystem;
 using ppohdem::test::body;
 using ppohdem::test::CommandResult;
+using ppohdem::test::run_mpi;
 using ppohdem::test::write_bed;
 
 namespace {
 
 fs::path scratch(const std::string& name) { return ppohdem::test::scratch("dem_fast_mpi", name); }
-
-/// `ppohdem simulate <scene> <args>` under mpirun with P ranks and T threads per rank.
-CommandResult run_mpi(int ranks, int threads, const fs::path& scene, const std::string& args) {
-  const std::string command = "env OMP_NUM_THREADS=" + std::to_string(threads) +
-                              " OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"
-                              // Waiting ranks yield the core and are not pinned: on a shared
-                              // 2-core machine spinning, pinned ranks and threads wait for each
-                              // other's descheduled partner (docs/dem.md "Domain decomposition").
-                              " OMPI_MCA_mpi_yield_when_idle=1 OMP_WAIT_POLICY=passive '" +
-                              std::string(PPOHDEM_MPIEXEC) + "' -n " + std::to_string(ranks) + " --oversubscribe --bind-to none '" +
-                              std::string(PPOHDEM_EXE) + "' simulate '" + scene.string() + "' " + args + " 2>&1";
-  return ppohdem::test::run_shell(command);
-}
-
 
 /// Brick of x in the decomposition the program reports ("(a x b x c bricks)"), recomputed
 /// here from its definition (bounding box of the initial centres cut into equal bricks).

@@ -189,8 +189,13 @@ TEST(MotionProgramCli, ScoopExampleRunsAsOneScene) {
   }
   const auto r = run_ppohdem("simulate scoop_translate_rotate.toml --quiet", dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // A normal scene (an object smaller than the box, its grid 2 R around its mesh): no particle
+  // within the scoop's reach is outside its grid, so no warning and a count of zero
+  // (docs/objects.md "Outside the grid").
+  EXPECT_EQ(r.output.find("outside the distance grid"), std::string::npos) << r.output;
   bool pushed_translating = false, pushed_turning = false;
   for (const auto& row : numeric_csv_rows(dir / "out_scoop" / "objects.csv")) {
+    EXPECT_EQ(row.back(), 0.0);  // outside_grid
     const double t = row.at(1), force = std::abs(row.at(13)) + std::abs(row.at(14)) + std::abs(row.at(15));
     if (t > 0.12 && t < 0.22 && force > 0) pushed_translating = true;
     if (t > 0.22 && t < 0.32 && force > 0) pushed_turning = true;

@@ -3,7 +3,9 @@
 //     data are errors (exit status 2, InputError) whose message gives both values;
 //   - a particle outside an object's distance grid is treated as far away (no contact: it
 //     falls freely through where the object would be), counted in objects.csv and warned
-//     about once.
+//     about once, if it lies within its radius of the object (docs/objects.md "Outside the
+//     grid"): a mesh object whose grid is cut to the mesh's box warns, the same object with
+//     the default margin does not.
 // The library-level checks of the same messages are in legacy_scene_test.cpp; these run the
 // executable as a user does.
 #include <gmock/gmock.h>
@@ -93,12 +95,17 @@ TEST(ObjectsCli, ParticleOutsideTheDistanceGridFallsFreelyIsCountedAndWarnedOnce
     for (int j = 0; j < 9; ++j)
       for (int i = 0; i < 9; ++i) field.at(i, j, k) = grid.position(i, j, k).z();
   write_vtk_structured_points(dir / "plate.vtk", field, "distance", "test plate");
-  // Particle 1 rests on the plate; particle 2 is far outside the grid (x = 10 mm) at the same
-  // height, where the plate's field, extended, would hold it: it must fall through.
+  // Particle 1 rests on the plate; particle 2 is just outside the grid (x = 2.6 mm, the grid
+  // ends at 2 mm) and lower, where the plate's field, extended, would hold it: it must fall
+  // through, and it is counted, as the plate (a half-space) goes on beyond its grid (its
+  // inside nodes reach the grid's faces: docs/objects.md "Outside the grid"). Particle 3 is
+  // far outside (x = 10 mm): it falls too, and is not counted (farther than R from the plate's
+  // box, one cell beyond the grid).
   constexpr double kR = 0.5e-3;  // m
   std::ofstream(dir / "p.csv") << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius\n"
                                << "1,0,0,0.0005,0,0,0,0,0,0," << kR << "\n"
-                               << "2,0.01,0,0.0005,0,0,0,0,0,0," << kR << "\n";
+                               << "2,0.0026,0,0.0004,0,0,0,0,0,0," << kR << "\n"
+                               << "3,0.01,0,0.0005,0,0,0,0,0,0," << kR << "\n";
   constexpr long kSteps = 200;
   constexpr double kDt = 1e-6;  // s
   std::ofstream(dir / "scene.toml") << "[simulation]\ndt = 1e-6\nsteps = " << kSteps
@@ -126,8 +133,49 @@ TEST(ObjectsCli, ParticleOutsideTheDistanceGridFallsFreelyIsCountedAndWarnedOnce
   // for a constant acceleration: round-off of 200 steps, 1e-15 m), while particle 1 is held.
   const Particles end = read_particles_csv(dir / "out" / "final.csv");
   const double t = kSteps * kDt;
-  EXPECT_NEAR(end[1].position.z(), 0.0005 - 0.5 * 9.81 * t * t, 1e-15);
+  EXPECT_NEAR(end[1].position.z(), 0.0004 - 0.5 * 9.81 * t * t, 1e-15);
+  EXPECT_NEAR(end[2].position.z(), 0.0005 - 0.5 * 9.81 * t * t, 1e-15);
   EXPECT_GT(end[0].position.z(), 0.0005 - 0.5 * 9.81 * t * t + 1e-8);  // the plate pushed back
+}
+
+TEST(ObjectsCli, MeshObjectWhoseGridIsCutToItsMeshWarnsWithItsNameAndTheTime) {
+  // A sphere touching the scoop's plate from below (its centre 1.5 mm under the plate, R = 2 mm)
+  // and one far away. With margin = 0 the grid is the mesh's box: the centre is outside it,
+  // within R of the object, so the contact is missed and the run warns at t = 0. With the
+  // default margin (2 R) the contact is found and nothing is warned or counted.
+  for (const bool cut : {true, false}) {
+    const fs::path dir = test::scratch_dir();
+    fs::copy(test::fixture("scenes/scoop/scoop.stl"), dir / "scoop.stl");
+    std::ofstream(dir / "p.csv") << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius\n"
+                                 << "1,0.06,0.014,0.0435,0,0,0,0,0,0,0.002\n"
+                                 << "2,0.01,0.014,0.01,0,0,0,0,0,0,0.002\n";
+    std::ofstream(dir / "scene.toml") << "[simulation]\ndt = 1e-5\nsteps = 20\ngravity = [0.0, 0.0, -9.81]\n"
+                                      << "[material]\ndensity = 2500.0\nyoung = 2e7\npoisson = 0.3\nrestitution = 0.5\n"
+                                      << "[contact]\nmodel = \"hertz-mindlin\"\n[particles]\nfile = \"p.csv\"\n"
+                                      << "[[object]]\nname = \"scoop\"\nmesh = \"scoop.stl\"\ncells = [15, 10, 12]\n"
+                                      << (cut ? "margin = 0.0\n" : "")
+                                      << "[output]\ndir = \"out\"\nevery = 10\nformats = [\"csv\"]\n";
+    const auto r = test::run_ppohdem("simulate scene.toml --quiet", dir.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string warning = "warning: a particle was outside the distance grid of object 'scene.toml: scoop'";
+    std::ifstream objects(dir / "out" / "objects.csv");
+    std::string line, last;
+    while (std::getline(objects, line)) {
+      if (!line.empty() && line[0] != '#') last = line;
+    }
+    const std::string count = last.substr(last.rfind(',') + 1);
+    const Particles end = read_particles_csv(dir / "out" / "final.csv");
+    if (cut) {
+      EXPECT_THAT(r.output, HasSubstr(warning)) << r.output;
+      EXPECT_THAT(r.output, HasSubstr("at t = 0 s within its radius of the object")) << r.output;
+      EXPECT_EQ(count, "21") << last;  // particle 1 at every evaluation (start-up + 20 steps)
+      EXPECT_NEAR(end[0].velocity.z(), -9.81 * 20 * 1e-5, 1e-12);  // free fall: no contact
+    } else {
+      EXPECT_EQ(r.output.find("outside the distance grid"), std::string::npos) << r.output;
+      EXPECT_EQ(count, "0") << last;
+      EXPECT_LT(end[0].velocity.z(), -0.1);  // pushed down by the plate it overlaps by 0.5 mm
+    }
+  }
 }
 
 }  // namespace

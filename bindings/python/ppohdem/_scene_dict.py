@@ -35,13 +35,27 @@ def _value(v, where):
     raise _ppohdem.InputError(f"Scene.from_dict: {where}: cannot write a {type(v).__name__} as TOML")
 
 
-def _table(lines, header, table):
+def _is_table_list(v):
+    return isinstance(v, (list, tuple)) and len(v) > 0 and all(isinstance(t, dict) for t in v)
+
+
+def _table(lines, header, table, path):
+    """[path] or [[path]] (header) with its keys; a list of dicts under a key of an array of
+    tables is a nested array of tables, [[path.key]], written after the keys (TOML's order):
+    e.g. an object's motion program, d["object"][0]["motion"] = [{...}, {...}]."""
     lines.append(header)
+    nested = []
     for key, v in table.items():
         if isinstance(v, dict):
             raise _ppohdem.InputError(f"Scene.from_dict: {header} {key}: nested tables are not part of the scene format")
+        if header.startswith("[[") and _is_table_list(v):
+            nested.append((key, v))
+            continue
         lines.append(f"{key} = {_value(v, header + ' ' + key)}")
     lines.append("")
+    for key, tables in nested:
+        for t in tables:
+            _table(lines, f"[[{path}.{key}]]", t, f"{path}.{key}")
 
 
 def to_toml(d):
@@ -49,10 +63,10 @@ def to_toml(d):
     lines = []
     for name, v in d.items():
         if isinstance(v, dict):
-            _table(lines, f"[{name}]", v)
-        elif isinstance(v, (list, tuple)) and v and all(isinstance(t, dict) for t in v):
+            _table(lines, f"[{name}]", v, name)
+        elif _is_table_list(v):
             for t in v:
-                _table(lines, f"[[{name}]]", t)
+                _table(lines, f"[[{name}]]", t, name)
         else:
             raise _ppohdem.InputError(f"Scene.from_dict: top-level key '{name}' must be a table (dict) or a list of tables")
     return "\n".join(lines)

@@ -30,6 +30,7 @@ DistanceFieldObject::DistanceFieldObject(ScalarField field, const RigidMotion& m
     : field_(std::move(field)), motion_(motion), program_(single_program(motion, name, start, stop)),
       name_(std::move(name)), start_(start), stop_(stop) {
   check_field();
+  index_extent();
 }
 
 DistanceFieldObject::DistanceFieldObject(ScalarField field, MotionProgram program, std::string name)
@@ -38,6 +39,7 @@ DistanceFieldObject::DistanceFieldObject(ScalarField field, MotionProgram progra
       stop_(std::numeric_limits<double>::infinity()) {
   motion_.centroid = program_.reference_point();
   check_field();
+  index_extent();
 }
 
 void DistanceFieldObject::check_field() const {
@@ -67,8 +69,8 @@ std::optional<BoundaryContact> DistanceFieldObject::contact(const Vec3& centre, 
   const Vec3 local = pose.inverse().apply(centre);  // y = P^-1 x [m]
   const auto sample = sample_trilinear(field_, local);
   if (!sample) {
-    outside_grid_.fetch_add(1, std::memory_order_relaxed);
-    return std::nullopt;  // far away: no contact (counted)
+    if (within_reach(local, radius)) outside_grid_.fetch_add(1, std::memory_order_relaxed);
+    return std::nullopt;  // far away: no contact (counted if the object might reach it)
   }
   const double phi = sample->value;  // signed distance of the centre [m]
   const double gradient_norm = sample->gradient.norm();

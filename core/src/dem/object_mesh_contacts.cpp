@@ -10,6 +10,7 @@ namespace ppohdem::dem {
 
 void DistanceFieldObject::use_mesh_contacts(const TriangleMesh& mesh) {
   contact_mesh_ = std::make_shared<const MeshContactGeometry>(mesh);
+  mesh_box_ = bounding_box(mesh);
 }
 
 void DistanceFieldObject::contacts(const Vec3& centre, double radius, double time,
@@ -23,14 +24,13 @@ void DistanceFieldObject::contacts(const Vec3& centre, double radius, double tim
   const Vec3 local = pose.inverse().apply(centre);  // y = P^-1 x [m]
   const auto sample = sample_trilinear(field_, local);
   if (!sample) {
-    outside_grid_.fetch_add(1, std::memory_order_relaxed);
-    return;  // far away: no contact (counted)
+    if (within_reach(local, radius)) outside_grid_.fetch_add(1, std::memory_order_relaxed);
+    return;  // far away: no contact (counted if the object might reach it)
   }
   // The interpolant of an exact distance d exceeds d by at most the cell diagonal (d is
   // 1-Lipschitz and the interpolant a convex combination of the cell's nodes), so
   // phi >= R + diagonal means no point of the mesh within R; 1e-9 covers the round-off.
-  const double diagonal = field_.grid.spacing.norm() * (1.0 + 1e-9);
-  if (sample->value >= radius + diagonal) return;
+  if (sample->value >= radius + contact_range()) return;
   if (sample->value <= 0.0) {  // centre inside the object: the field pushes it out (seed's rule)
     Boundary::contacts(centre, radius, time, out);
     return;

@@ -109,8 +109,8 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   EnergyLog energy(out.dir / "energy.csv", header);
   const long energy_every = out.every > 0 ? out.every : std::max(1L, scene.steps / 100);
   RunSummary summary;
-  // Objects: poses and loads with every energy row; a warning the first time an object is
-  // sampled outside its grid (the particle is then treated as far from it).
+  // Objects: poses and loads with every energy row; a warning the first time a particle within
+  // an object's reach is outside its grid (distance_field_object.hpp "Outside the grid").
   ObjectLog object_log(out.dir / "objects.csv", header);
   std::vector<bool> warned_outside(scene.objects.size(), false);
   std::vector<std::int64_t> outside_offset(scene.objects.size(), 0);  // restart: counts so far
@@ -142,7 +142,8 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
       if (!warned_outside[o] && global_count(object.outside_grid_count()) > 0) {
         warned_outside[o] = true;
         if (writer) std::fprintf(stderr, "warning: a particle was outside the distance grid of %s at t = %g s "
-                     "(treated as far from the object; counted in objects.csv)\n",
+                     "within its radius of the object: the grid is too small for the object (no contact "
+                     "there; counted in objects.csv)\n",
                      object.describe().c_str(), engine.time());
       }
     }

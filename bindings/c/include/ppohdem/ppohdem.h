@@ -111,6 +111,46 @@ PPOHDEM_API ppohdem_status ppohdem_scene_add_wall(ppohdem_scene* scene, const do
 PPOHDEM_API ppohdem_status ppohdem_scene_add_object(ppohdem_scene* scene, const ppohdem_field* field, const char* name,
                                         const double velocity[3], const double angular_velocity[3],
                                         const double centroid[3]);
+/* A motion program (docs/objects.md "Motion programs"): segments in strictly increasing start
+ * times, segment k acting from its start until the next one's (the last for ever); before the
+ * first the object rests. Each type reads only its fields (the others are ignored):
+ *   REST                -
+ *   TRANSLATE           velocity [m/s]
+ *   ROTATE              axis (non-zero; normalised), omega [rad/s], point if has_point
+ *   TRANSLATE_ROTATE    velocity, axis, omega, point if has_point
+ *   VIBRATE_TRANSLATE   amplitude[3] [m], frequency [Hz] > 0, phase [rad]
+ *   VIBRATE_ROTATE      axis, amplitude[0] [rad], frequency, phase, point if has_point
+ * point [m, world] is on the axis at the segment's start; without it the axis passes through
+ * where the motion so far has carried the centroid. Vibrations: d = A (sin(2 pi f s + phase) -
+ * sin(phase)), s the time since the segment's start. */
+typedef enum ppohdem_motion_type {
+  PPOHDEM_MOTION_REST = 0,
+  PPOHDEM_MOTION_TRANSLATE = 1,
+  PPOHDEM_MOTION_ROTATE = 2,
+  PPOHDEM_MOTION_TRANSLATE_ROTATE = 3,
+  PPOHDEM_MOTION_VIBRATE_TRANSLATE = 4,
+  PPOHDEM_MOTION_VIBRATE_ROTATE = 5
+} ppohdem_motion_type;
+
+typedef struct ppohdem_motion_segment {
+  int32_t type; /* a ppohdem_motion_type */
+  double start; /* [s] */
+  double velocity[3];
+  double axis[3];
+  double omega;
+  double amplitude[3];
+  double frequency;
+  double phase;
+  int32_t has_point;
+  double point[3];
+} ppohdem_motion_segment;
+
+/* A rigid object given by its distance field (copied) in its own frame, moved by the motion
+ * program segments[segment_count] (copied); torques are taken about centroid[3] [m] at rest
+ * (NULL: the origin), which the motion carries. */
+PPOHDEM_API ppohdem_status ppohdem_scene_add_object_program(ppohdem_scene* scene, const ppohdem_field* field,
+                                                const char* name, const double centroid[3],
+                                                const ppohdem_motion_segment* segments, size_t segment_count);
 PPOHDEM_API ppohdem_status ppohdem_scene_particle_count(const ppohdem_scene* scene, size_t* count);
 /* Steps the scene asks for (TOML [run] steps; 0 for a scene built from arrays). */
 PPOHDEM_API ppohdem_status ppohdem_scene_steps(const ppohdem_scene* scene, long* steps);

@@ -7,6 +7,7 @@
 /// contact laws as for particle pairs, with j = the boundary: R* = R_i, m* = m_i, and the
 /// boundary's velocity at the contact point in v_rel (contact_force.hpp).
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,6 +43,20 @@ inline std::int64_t boundary_history_key(std::size_t boundary, std::uint32_t fea
 inline std::size_t boundary_of_history_key(std::int64_t key) { return static_cast<std::size_t>(key & 0xFFFFFFFF); }
 inline std::uint32_t feature_of_history_key(std::int64_t key) { return static_cast<std::uint32_t>(key >> 32); }
 
+/// A world box outside which a boundary neither touches a sphere of radius <= r_max nor counts
+/// it (Boundary::reach): an engine may skip such a sphere, with the same results to the bit
+/// (docs/objects.md "Far objects cost nothing"). The default box is the whole space.
+struct ReachBox {
+  Vec3 lo = Vec3::Constant(-std::numeric_limits<double>::infinity());  ///< [m]
+  Vec3 hi = Vec3::Constant(std::numeric_limits<double>::infinity());   ///< [m]
+  double r_max = std::numeric_limits<double>::infinity();  ///< the radii it holds for [m]
+  /// True if a sphere (centre [m], radius [m]) cannot touch the boundary: skip it.
+  bool excludes(const Vec3& centre, double radius) const {
+    return radius <= r_max && (centre.x() < lo.x() || centre.x() > hi.x() || centre.y() < lo.y() ||
+                               centre.y() > hi.y() || centre.z() < lo.z() || centre.z() > hi.z());
+  }
+};
+
 class Boundary {
  public:
   virtual ~Boundary() = default;
@@ -57,6 +72,10 @@ class Boundary {
   }
   /// True if the centre has crossed to the solid side at time t: the particle left the domain.
   virtual bool has_escaped(const Vec3& centre, double time) const = 0;
+  /// Where spheres of radius <= r_max [m] can touch this boundary (or be counted by it) at
+  /// time t [s]: outside the box, contacts() gives none, has_escaped() is false and nothing is
+  /// counted. The default, the whole space, is always right; a far object gives a small box.
+  virtual ReachBox reach(double /*time*/, double /*r_max*/) const { return {}; }
   /// Human-readable description for logs, e.g. "wall point (0,0,-0.01) normal (0,0,1)".
   virtual std::string describe() const = 0;
 };

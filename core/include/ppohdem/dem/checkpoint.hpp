@@ -34,8 +34,8 @@ inline constexpr std::uint32_t kCheckpointFormatVersion = 3;
 inline constexpr char kCheckpointMagic[9] = "PPOHDEMC";
 
 /// A rigid object's pose when the checkpoint was written (the motion is prescribed, so this
-/// is a check that the restarting scene moves its objects the same way) and its count of
-/// samples outside its distance grid (objects.csv continues it).
+/// is a check that the restarting scene moves its objects the same way) and its count of samples
+/// outside its grid within reach of it (distance_field_object.hpp; objects.csv continues it).
 struct ObjectPoseRecord {
   std::string name;
   Quat rotation = Quat::Identity();  ///< object frame -> world

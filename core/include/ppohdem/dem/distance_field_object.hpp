@@ -29,8 +29,18 @@
 /// come from the program; c(t) is the program's reference point).
 ///
 /// Outside the grid: a centre whose object-frame position is outside the node box has no
-/// contact (the object is treated as far away) and is counted (outside_grid_count()); the
-/// caller warns once (run_scene does).
+/// contact (the object is treated as far away). It is counted (outside_grid_count()) only if it
+/// lies within its radius R of the object's body box B (the contact mesh's box, else the
+/// display mesh's, else the box of the inside nodes, phi <= 0, pushed one cell h out where they
+/// reach the grid's faces): a particle that could touch the object, so the grid is too small
+/// for it. The caller warns once (run_scene does). Particles merely far from a small object's
+/// grid are not counted.
+///
+/// Far particles (reach(); docs/objects.md "Far objects cost nothing"): a sphere of radius
+/// R <= r_max has a contact only where some node of its cell has phi < r_max + c (the
+/// interpolant lies within its corners' range; c = 0 for the field's contact, one cell diagonal
+/// for the mesh contacts' candidates), and is counted only within B + R. The box of both, moved
+/// by the pose, bounds where anything can happen: an engine skips the spheres outside it.
 ///
 /// Display mesh (optional, for pictures): a TriangleMesh in the object
 /// frame (the frame of `field.grid`); the frame writers draw it moved by pose_at(t).
@@ -39,6 +49,7 @@
 /// the mesh's faces, edges and vertices (mesh_contact.hpp), the field only finding the
 /// candidates (object_mesh_contacts.cpp; docs/objects.md "Exact contacts for mesh objects").
 /// contact() stays the field's single trilinear contact (the seed's method).
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <limits>
@@ -73,6 +84,9 @@ class DistanceFieldObject final : public Boundary {
   /// Without: contact() as feature 0.
   void contacts(const Vec3& centre, double radius, double time, std::vector<FeatureContact>& out) const override;
   bool has_escaped(const Vec3& /*centre*/, double /*time*/) const override { return false; }
+  /// The world box outside which spheres of radius <= r_max [m] have no contact and are not
+  /// counted at time t [s] (see "Far particles" above; object_reach.cpp).
+  ReachBox reach(double time, double r_max) const override;
   std::string describe() const override;
 
   /// The object's pose at time t [s]: object frame -> world.
@@ -81,7 +95,8 @@ class DistanceFieldObject final : public Boundary {
   Vec3 centroid_at(double time) const;
   /// Velocity of the object's material at world point x at time t [m/s].
   Vec3 point_velocity(const Vec3& x, double time) const;
-  /// Number of contact() calls so far whose centre was outside the grid.
+  /// Number of contact() and contacts() calls so far whose centre was outside the grid and
+  /// within its radius of the object's body box (see "Outside the grid" above).
   std::size_t outside_grid_count() const { return outside_grid_.load(std::memory_order_relaxed); }
 
   const ScalarField& field() const { return field_; }
@@ -94,7 +109,10 @@ class DistanceFieldObject final : public Boundary {
   double stop() const { return stop_; }    ///< the single motion's (a program: infinity)
 
   /// Attach the display mesh (object frame, m); call before the object is shared.
-  void set_display_mesh(TriangleMesh mesh) { display_mesh_ = std::move(mesh); }
+  void set_display_mesh(TriangleMesh mesh) {
+    if (!contact_mesh_) mesh_box_ = bounding_box(mesh);
+    display_mesh_ = std::move(mesh);
+  }
   /// The display mesh, or nullptr if the object has none.
   const TriangleMesh* display_mesh() const { return display_mesh_ ? &*display_mesh_ : nullptr; }
 
@@ -103,9 +121,19 @@ class DistanceFieldObject final : public Boundary {
   void use_mesh_contacts(const TriangleMesh& mesh);
   /// The contact mesh, or nullptr if contacts come from the field alone.
   const MeshContactGeometry* contact_mesh() const { return contact_mesh_.get(); }
+  /// The object's body box B in the object frame [m] (see "Outside the grid" above).
+  const BoundingBox& body_box() const { return mesh_box_.empty() ? field_box_ : mesh_box_; }
 
  private:
   void check_field() const;
+  /// The per-axis minima of the field and its inside box (object_reach.cpp); after check_field().
+  void index_extent();
+  /// Whether a centre at object-frame position `local`, outside the grid, is within `radius`
+  /// of the body box (counted in outside_grid_count()).
+  bool within_reach(const Vec3& local, double radius) const;
+  /// How far beyond R the object looks for a contact [m]: the mesh contacts' candidates lie
+  /// within R + one cell diagonal (object_mesh_contacts.cpp), the field's contact within R.
+  double contact_range() const { return contact_mesh_ ? field_.grid.spacing.norm() * (1.0 + 1e-9) : 0.0; }
 
   ScalarField field_;
   RigidMotion motion_;
@@ -116,6 +144,10 @@ class DistanceFieldObject final : public Boundary {
   std::optional<TriangleMesh> display_mesh_;
   std::shared_ptr<const MeshContactGeometry> contact_mesh_;
   mutable std::atomic<std::size_t> outside_grid_{0};
+  /// slab_min_[a][i]: the smallest value of the nodes with index i along axis a [m].
+  std::array<std::vector<double>, 3> slab_min_;
+  BoundingBox field_box_;  ///< the inside nodes' box (see "Outside the grid") [m]
+  BoundingBox mesh_box_;   ///< the contact mesh's, else the display mesh's box; empty if none [m]
 };
 
 }  // namespace ppohdem::dem

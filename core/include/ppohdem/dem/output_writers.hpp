@@ -18,7 +18,7 @@
 ///                      translation_x,translation_y,translation_z,force_x,force_y,force_z,
 ///                      torque_x,torque_y,torque_z,outside_grid
 ///                      [-, s, -, m x3, pose quaternion (object frame -> world), m x3, N x3,
-///                      N m x3 about the current centroid, count of samples outside the grid]
+///                      N m x3 about the current centroid, count outside the grid in reach]
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

@@ -173,6 +173,7 @@ struct FastEngine::Impl {
   std::size_t total = 0;  ///< particles of the whole system
   double skin = 0.0;      ///< [m]
   double r_max = 0.0;     ///< [m], over the whole system
+  bool skip_far_objects = true;  ///< FastOptions::skip_far_objects
   long steps = 0;
   long builds = 0;
   double elastic = 0.0;
@@ -303,6 +304,8 @@ struct FastEngine::Impl {
   /// kick runs between the kernel and the sums, and with one rank the kinetic, rotational and
   /// gravitational sums of the new state come out of the same pass (cached for energies()).
   void evaluate_forces(double history_dt, bool closing_kick = false);
+  /// s.reach for the evaluation at `time` [s] (step.cpp).
+  void update_reach(double time);
 
   /// A record's load on its boundary: minus the contact force on the particle, its moment
   /// about the origin, minus the rolling torque on the particle [N, N m]: the terms the

@@ -28,6 +28,7 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   m.kernel = make_force_kernel(setup, options.vector_contacts);
   for (auto& p : setup.particles) m.r_max = std::max(m.r_max, p.radius);
   m.skin = options.skin_fraction * m.r_max;
+  m.skip_far_objects = options.skip_far_objects;
   std::vector<Vec3> centres;
   for (const Particle& p : setup.particles) centres.push_back(p.position);
   m.decomposition = Decomposition(m.comm->size(), centres);

@@ -254,6 +254,11 @@ struct FastState {
   std::vector<WallData> walls;        ///< per boundary index (unused entries for others)
   std::vector<bool> is_wall;          ///< per boundary index
   BoundaryList boundaries;
+  /// Per boundary index: where it can touch a particle at this evaluation (Boundary::reach,
+  /// set by the engine before each evaluation); the boundary pass skips the particles outside
+  /// (force_boundaries.hpp). The whole space for walls, and for every boundary when
+  /// FastOptions::skip_far_objects is off.
+  std::vector<ReachBox> reach;
   double dt = 0.0;
   Vec3 gravity = Vec3::Zero();
   bool friction = false;

@@ -45,6 +45,7 @@ inline BoundaryTouch touch_boundary(const FastState& s, std::size_t b, const Vec
       return BoundaryTouch::kTouching;
     }
   } else if constexpr (K::kOthers) {
+    if (s.reach[b].excludes(x, r)) return BoundaryTouch::kApart;  // far: nothing to evaluate
     const Boundary& boundary = *s.boundaries[b];
     if (boundary.has_escaped(x, time)) return BoundaryTouch::kEscaped;
     boundary.contacts(x, r, time, several);

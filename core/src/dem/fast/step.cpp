@@ -4,11 +4,21 @@
 
 namespace ppohdem::dem::fast {
 
+void FastEngine::Impl::update_reach(double time) {
+  s.reach.assign(s.boundaries.size(), ReachBox{});
+  if (!skip_far_objects) return;
+  for (std::size_t b = 0; b < s.boundaries.size(); ++b) {
+    if (!s.is_wall[b]) s.reach[b] = s.boundaries[b]->reach(time, r_max);
+  }
+}
+
 void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
   s.closing_kick = closing_kick;
   s.kick_closed = false;
   s.motion_terms = !lazy_sums();
-  kernel->evaluate(s, static_cast<double>(steps) * s.dt, history_dt);
+  const double time = static_cast<double>(steps) * s.dt;
+  update_reach(time);
+  kernel->evaluate(s, time, history_dt);
   motion_valid = false;
   if (closing_kick) close_step();
   if (lazy_sums()) {  // energies(), boundary_loads() and escaped_count() sum when asked

@@ -72,6 +72,9 @@ struct FastOptions {
   /// where the CPU has AVX (the same bits as one at a time; false: always one at a time, the
   /// tests' way to check both).
   bool vector_contacts = true;
+  /// Skip the particles outside an object's reach at each evaluation (Boundary::reach; the
+  /// same bits as evaluating them all, which false does: the tests' way to check it).
+  bool skip_far_objects = true;
 };
 
 /// How fast the force kernel's threads ran against each other (a diagnostic: no result depends
