@@ -136,6 +136,27 @@ TEST(Scene, ParallelBalanceKeysAreReadAndCheckedNamingTheLine) {
   EXPECT_NE(msg.find("unknown key 'balanse'"), std::string::npos) << msg;
 }
 
+// [output] formats: "vtu" is read; an unknown name is an error naming the file, the line and
+// the names expected.
+TEST(Scene, OutputFormatsReadVtuAndNameTheExpectedOnes) {
+  const fs::path dir = ppohdem::test::scratch_dir();
+  fs::copy(ppohdem::test::fixture("scenes/two_spheres.csv"), dir / "two_spheres.csv", fs::copy_options::overwrite_existing);
+  const std::string scene = fixture_text("scenes/two_spheres.toml");
+  const std::string line = "formats = [\"csv\", \"vtk\", \"pov\"]";
+  const auto at = scene.find(line);
+  ASSERT_NE(at, std::string::npos);
+  write(dir / "vtu.toml", std::string(scene).replace(at, line.size(), "formats = [\"csv\", \"vtu\"]"));
+  const Scene s = read_scene(dir / "vtu.toml");
+  EXPECT_TRUE(s.output.vtu);
+  EXPECT_TRUE(s.output.csv);
+  EXPECT_FALSE(s.output.vtk);
+  write(dir / "bad.toml", std::string(scene).replace(at, line.size(), "formats = [\"vtp\"]"));
+  const std::string msg = error_of([&] { read_scene(dir / "bad.toml"); });
+  EXPECT_NE(msg.find("bad.toml:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("\"vtu\""), std::string::npos) << msg;
+  EXPECT_NE(msg.find("found vtp"), std::string::npos) << msg;
+}
+
 // [simulation] energy_balance = false through the whole run: the key is read, the run ends
 // with the same final state as the tracked run, and energy.csv carries nan in the three
 // contact columns (and finite kinetic energies). A non-boolean value names the key.

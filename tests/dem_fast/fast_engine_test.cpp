@@ -16,7 +16,6 @@
 #include "ppohdem/dem/cell_grid.hpp"
 #include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
-#include "ppohdem/dem/ordered_sum.hpp"
 #include "ppohdem/dem/particle_generator.hpp"
 #include "ppohdem/dem/run_diagnostics.hpp"
 #include "ppohdem/dem/reference/reference_engine.hpp"
@@ -407,7 +406,7 @@ TEST(FastEngine, FinalStateIsBitwiseTheSameForOneAndTwoThreads) {
   const auto two = run(2);
   omp_set_num_threads(before);
   expect_same_bits(one.first, two.first, "1 vs 2 threads");
-  // Energies are reduced per particle and then in the fixed blocks of ordered_sum.hpp: the same bits too.
+  // Energies are summed exactly and rounded once (exact_sum.hpp): the same bits too.
   EXPECT_EQ(one.second.elastic, two.second.elastic);
   EXPECT_EQ(one.second.dissipated, two.second.dissipated);
   EXPECT_EQ(one.second.boundary_work, two.second.boundary_work);
@@ -565,12 +564,12 @@ TEST(FastEngine, KineticEnergySumsAreTheReferencesBitwiseOnTwoThreads) {
 #ifndef PPOHDEM_WITH_OPENMP
   GTEST_SKIP() << "built without OpenMP (PPOHDEM_ENABLE_OPENMP=OFF)";
 #else
-  // Both engines sum over particles in the blocks of ordered_sum.hpp; the fast engine sums the
-  // blocks on its threads. With more than one block (1500 particles > kSumBlock) and 2 threads,
-  // its kinetic, rotational and gravitational energies must still be the reference's bits, and
-  // its boundary loads those of one thread.
+  // Both engines sum over particles exactly and round once (exact_sum.hpp); the fast engine
+  // sums on its threads. With 2 threads (1500 particles: above the 1,024 below which the loops
+  // run on one thread) its kinetic, rotational and gravitational energies and its boundary
+  // loads (the same terms, record by record) must be the reference's bits.
   const SimulationSetup setup = scene(SceneKind::kHertzFrictionWalls);
-  ASSERT_GT(setup.particles.size(), kSumBlock) << "one block would not test the block order";
+  ASSERT_GT(setup.particles.size(), 1024u) << "the sums would run on one thread";
   ReferenceEngine reference(setup);
   reference.advance(200);
   const int before = omp_get_max_threads();
@@ -589,10 +588,14 @@ TEST(FastEngine, KineticEnergySumsAreTheReferencesBitwiseOnTwoThreads) {
   EXPECT_GT(er.kinetic, 0.0);
   const auto l1 = one.boundary_loads();
   const auto l2 = two.boundary_loads();
+  const auto lr = reference.boundary_loads();
   ASSERT_EQ(l1.size(), l2.size());
+  ASSERT_EQ(lr.size(), l2.size());
   for (std::size_t b = 0; b < l1.size(); ++b) {
     EXPECT_EQ(l1[b].force, l2[b].force) << "boundary " << b;
     EXPECT_EQ(l1[b].moment_about_origin, l2[b].moment_about_origin) << "boundary " << b;
+    EXPECT_EQ(lr[b].force, l2[b].force) << "boundary " << b << " against the reference";
+    EXPECT_EQ(lr[b].moment_about_origin, l2[b].moment_about_origin) << "boundary " << b << " against the reference";
   }
   EXPECT_GT(two.contact_counts().particle_boundary, 20u);  // the loads are not all zero
 #endif

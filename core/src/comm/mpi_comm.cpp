@@ -48,6 +48,10 @@ class MpiComm final : public Comm {
   }
   double max_over_ranks(double value) const override { return reduce(value, MPI_MAX); }
   double sum_over_ranks(double value) const override { return reduce(value, MPI_SUM); }
+  void sum_over_ranks(std::span<std::int64_t> values) const override {
+    check(MPI_Allreduce(MPI_IN_PLACE, values.data(), to_int_count(values.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
+          "MPI_Allreduce");
+  }
   double broadcast_from_root(double value) const override {
     check(MPI_Bcast(&value, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD), "MPI_Bcast");
     return value;

@@ -17,6 +17,7 @@
 #include "ppohdem/dem/load_log.hpp"
 #include "ppohdem/dem/output_writers.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
+#include "ppohdem/dem/vtu_writer.hpp"
 #include "ppohdem/error.hpp"
 #include "ppohdem/provenance.hpp"
 
@@ -101,6 +102,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   if (writer && !fs::is_directory(out.dir)) {
     throw InputError(out.dir.string(), 0, "cannot create the output directory");
   }
+  if (out.vtu && options.comm != nullptr) options.comm->barrier();  // the directory exists before any rank writes a piece
   if (const std::size_t stale = writer ? remove_stale_temp_files(out.dir) : 0; stale > 0) {
     std::fprintf(stderr, "simulate: removed %zu temp files of interrupted runs from %s\n", stale,
                  out.dir.string().c_str());
@@ -161,11 +163,33 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   // A material column only with several materials (one-material outputs stay as they were).
   const std::vector<std::string> material_column =
       scene.setup.material_count() > 1 ? scene.setup.material_names : std::vector<std::string>{};
+  // VTK XML frames: every rank writes its own piece (no gather), rank 0 the index of the
+  // pieces (several ranks) and frames.pvd, the collection of this run's frames with their times.
+  std::vector<std::pair<double, std::string>> vtu_frames;
+  auto write_vtu = [&](long step) {
+    const int ranks = options.comm ? options.comm->size() : 1;
+    const int rank = options.comm ? options.comm->rank() : 0;
+    std::string name = vtu_piece_name(step, rank, ranks);
+    if (ranks == 1) {
+      write_vtu_frame(out.dir / name, engine.particles(), header);
+    } else {
+      write_vtu_frame(out.dir / name, engine.owned_particles(), header);
+      options.comm->barrier();  // every piece is on disk before the index names it
+      name = frame_stem(step) + ".pvtu";
+      std::vector<std::string> pieces;
+      for (int r = 0; r < ranks; ++r) pieces.push_back(vtu_piece_name(step, r, ranks));
+      if (writer) write_pvtu_index(out.dir / name, pieces, header);
+    }
+    if (!writer) return;
+    vtu_frames.emplace_back(engine.time(), name);
+    write_pvd_collection(out.dir / "frames.pvd", vtu_frames, header);
+  };
   auto write_frame = [&](long step) {
     const fs::path stem = out.dir / frame_stem(step);
+    if (out.vtu) write_vtu(step);
     if (out.csv || out.vtk || out.pov) (void)engine.particles();  // collective: on every rank
     if (!writer) {
-      if (out.csv || out.vtk || out.pov) ++summary.frames;
+      if (out.csv || out.vtk || out.pov || out.vtu) ++summary.frames;
       return;
     }
     if (out.csv) write_particles_csv(fs::path(stem).concat(".csv"), engine.particles(), header, material_column);
@@ -180,7 +204,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
                        transformed(*object.display_mesh(), object.pose_at(engine.time())), header);
       }
     }
-    if (out.csv || out.vtk || out.pov) ++summary.frames;
+    if (out.csv || out.vtk || out.pov || out.vtu) ++summary.frames;
   };
   auto make_checkpoint = [&] {
     Checkpoint c;

@@ -172,7 +172,8 @@ class SceneParser {
           if (name == "csv") scene.output.csv = true;
           else if (name == "vtk") scene.output.vtk = true;
           else if (name == "pov") scene.output.pov = true;
-          else fail(&item, "[output] formats: expected \"csv\", \"vtk\" or \"pov\", found " + name.value_or("a non-string"));
+          else if (name == "vtu") scene.output.vtu = true;
+          else fail(&item, "[output] formats: expected \"csv\", \"vtk\", \"vtu\" or \"pov\", found " + name.value_or("a non-string"));
         }
       }
     } else {

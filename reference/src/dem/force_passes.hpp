@@ -18,6 +18,7 @@
 // Rolling resistance (CDT or EPSD2) adds a torque M on i and -M on j (rolling_resistance.hpp).
 // Newton's third law: F on i, -F on j; torques r_i x F (+ M) on i, r_j x (-F) (- M) on j.
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -90,7 +91,7 @@ class PairForces final : public ForcePass {
       ContactForce f;
       if constexpr (kFriction) {
         const Key key(a.id, b.id);
-        for (; old != history_.end() && visited_before(old->first, key); ++old) c.dissipated += ended(old->second);
+        for (; old != history_.end() && visited_before(old->first, key); ++old) c.dissipated.add(ended(old->second));
         TangentialSpring spring;  // a new contact starts with xi = 0, k_t = 0
         if (old != history_.end() && old->first == key) spring = (old++)->second;
         k.relative_displacement_previous_arms =
@@ -113,11 +114,11 @@ class PairForces final : public ForcePass {
         a.torque += r_a.cross(f.on_i);
         b.torque += r_b.cross(-f.on_i);
       }
-      c.elastic += f.elastic_energy;
-      c.dissipated += f.dissipated;
+      c.elastic.add(f.elastic_energy);
+      c.dissipated.add(f.dissipated);
     }
     if constexpr (kFriction) {
-      for (; old != history_.end(); ++old) c.dissipated += ended(old->second);
+      for (; old != history_.end(); ++old) c.dissipated.add(ended(old->second));
       history_ = std::move(next_history);
     }
   }
@@ -184,9 +185,9 @@ class BoundaryForces final : public ForcePass {
   void add_forces(ForceContext& c) override {
     Particles& p = c.particles;
     active_ = 0;
-    loads_.assign(boundaries_.size(), ppohdem::dem::BoundaryLoad{});
+    load_sums_.assign(boundaries_.size(), {});
     std::map<std::pair<std::int64_t, std::int64_t>, TangentialSpring> next_history;
-    double power = 0.0;  // P(n+1) = sum of (F_i - F_d) . v_s over the contacts [W]
+    ppohdem::dem::ExactSum power_sum;  // P(n+1) = sum of (F_i - F_d) . v_s over the contacts [W]
     for (std::size_t i = 0; i < p.size(); ++i) {
       Particle& a = p[i];
       for (std::size_t w = 0; w < boundaries_.size(); ++w) {
@@ -242,25 +243,35 @@ class BoundaryForces final : public ForcePass {
             a.torque += r_a.cross(f.on_i);
           }
           // Reaction on the boundary (Newton's third law), at the contact point.
-          loads_[w].force -= f.on_i;
-          loads_[w].moment_about_origin += contact->point.cross(-f.on_i);
-          if (law.rolling().active()) loads_[w].moment_about_origin -= f.rolling_torque;
-          c.elastic += f.elastic_energy;
-          c.dissipated += f.dissipated;
+          // The terms summed exactly (exact_sum.hpp): -F, p x (-F) and -M [N, N m].
+          const Vec3 moment = contact->point.cross(-f.on_i);
+          for (int x = 0; x < 3; ++x) {
+            load_sums_[w][x].add(-f.on_i[x]);
+            load_sums_[w][3 + x].add(moment[x]);
+            if (law.rolling().active()) load_sums_[w][3 + x].add(-f.rolling_torque[x]);
+          }
+          c.elastic.add(f.elastic_energy);
+          c.dissipated.add(f.dissipated);
           // Work of the boundary on the particle (contact_force.hpp "Moving boundaries"): the
           // dashpot's share now, F_d . v_s dt, as its dissipation; the rest below [J].
-          c.boundary_work += f.dashpot.dot(contact->surface_velocity) * c.dt;
-          power += (f.on_i - f.dashpot).dot(contact->surface_velocity);
+          c.boundary_work.add(f.dashpot.dot(contact->surface_velocity) * c.dt);
+          power_sum.add((f.on_i - f.dashpot).dot(contact->surface_velocity));
         }
       }
     }
     // The rest by the trapezoid rule, as Verlet books the kinetic energy:
     // W = (P(n) + P(n+1)) dt / 2 [J]. The start-up evaluation has dt = 0: it records P(0).
-    c.boundary_work += 0.5 * (power_ + power) * c.dt;
+    const double power = power_sum.value();
+    c.boundary_work.add(0.5 * (power_ + power) * c.dt);
     power_ = power;
+    loads_.resize(boundaries_.size());
+    for (std::size_t w = 0; w < boundaries_.size(); ++w) {
+      loads_[w].force = Vec3(load_sums_[w][0].value(), load_sums_[w][1].value(), load_sums_[w][2].value());
+      loads_[w].moment_about_origin = Vec3(load_sums_[w][3].value(), load_sums_[w][4].value(), load_sums_[w][5].value());
+    }
     if constexpr (kFriction) {
       for (const auto& [key, spring] : history_) {
-        if (!next_history.count(key)) c.dissipated += ended(spring);
+        if (!next_history.count(key)) c.dissipated.add(ended(spring));
       }
       history_ = std::move(next_history);
     }
@@ -308,6 +319,9 @@ class BoundaryForces final : public ForcePass {
   ppohdem::dem::PairLaws<Law> laws_;
   ppohdem::dem::BoundaryList boundaries_;
   std::vector<ppohdem::dem::BoundaryLoad> loads_;  ///< per boundary, last evaluation
+  /// Per boundary the exact sums of the last evaluation's load terms: force x, y, z, then
+  /// moment about the origin x, y, z (rounded into loads_).
+  std::vector<std::array<ppohdem::dem::ExactSum, 6>> load_sums_;
   std::size_t active_ = 0;
   double power_ = 0.0;  ///< P(n) of the last evaluation, without the dashpots' share [W]
   std::set<std::int64_t> escaped_;

@@ -23,7 +23,7 @@
 #include <string>
 
 #include "force_passes.hpp"
-#include "ppohdem/dem/ordered_sum.hpp"
+#include "ppohdem/dem/exact_sum.hpp"
 
 namespace ppohdem::dem::reference {
 
@@ -81,13 +81,13 @@ void ReferenceEngine::evaluate_forces(double history_dt) {
     p.torque.setZero();
   }
   ForceContext context{particles_, predicted_velocity_, predicted_angular_velocity_, mass_, time(),
-                       history_dt};
+                       history_dt, {}, {}, {}};
   pair_pass_->add_forces(context);
   if (boundary_pass_) boundary_pass_->add_forces(context);
   if (energy_balance_) {  // else not tracked (SimulationSetup::energy_balance): zero, reported NaN
-    elastic_ = context.elastic;
-    dissipated_ += context.dissipated;
-    boundary_work_ += context.boundary_work;
+    elastic_ = context.elastic.value();
+    dissipated_ += context.dissipated.value();
+    boundary_work_ += context.boundary_work.value();
   }
   deepest_ = context.deepest.value_or(ppohdem::dem::LargestOverlap{});  // ratio 0: no contact
 }
@@ -119,14 +119,17 @@ void ReferenceEngine::step() {
 }
 
 Energies ReferenceEngine::energies() const {
-  // Sums over the particles in the order of ordered_sum.hpp (blocks of 1024 particles), the
-  // order the parallel fast engine reproduces bit for bit [J].
-  const auto sums = ppohdem::dem::ordered_sum<3>(particles_.size(), [&](std::size_t i) {
+  // Sums over the particles, exact and rounded once to the nearest double (exact_sum.hpp:
+  // Kulisch's long accumulator), so the value does not depend on the order of the terms and
+  // the parallel fast engine gives the same bits [J].
+  ppohdem::dem::ExactSums<3> total;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
     const Particle& p = particles_[i];
-    return std::array{0.5 * mass_[i] * p.velocity.squaredNorm(),          // m |v|^2 / 2
-                      0.5 * inertia_[i] * p.angular_velocity.squaredNorm(),  // I |w|^2 / 2
-                      -(mass_[i] * gravity_.dot(p.position))};               // -m g . x
-  });
+    total.add({0.5 * mass_[i] * p.velocity.squaredNorm(),          // m |v|^2 / 2
+               0.5 * inertia_[i] * p.angular_velocity.squaredNorm(),  // I |w|^2 / 2
+               -(mass_[i] * gravity_.dot(p.position))});              // -m g . x
+  }
+  const std::array<double, 3> sums = total.values();
   Energies e;
   e.kinetic = sums[0];
   e.rotational = sums[1];

@@ -32,6 +32,9 @@ class Comm {
   virtual double max_over_ranks(double value) const = 0;
   /// Sum of `value` over all ranks, returned on every rank.
   virtual double sum_over_ranks(double value) const = 0;
+  /// Elementwise sum of `values` over all ranks, in place on every rank (exact: integers; the
+  /// words of exact sums, ppohdem/dem/exact_sum.hpp). Collective.
+  virtual void sum_over_ranks(std::span<std::int64_t> values) const = 0;
   /// Rank 0's `value` on every rank.
   virtual double broadcast_from_root(double value) const = 0;
   /// Personalised all-to-all: `to[r]` (to.size() == size()) goes to rank r; returns `from`
@@ -77,6 +80,7 @@ class SerialComm final : public Comm {
   }
   double max_over_ranks(double value) const override { return value; }
   double sum_over_ranks(double value) const override { return value; }
+  void sum_over_ranks(std::span<std::int64_t>) const override {}
   double broadcast_from_root(double value) const override { return value; }
   /// One rank sends to itself: the block is copied (real behaviour, not a no-op).
   std::vector<Bytes> exchange(const std::vector<Bytes>& to) const override {

@@ -120,6 +120,9 @@ class DemEngine {
   virtual double time() const = 0;  ///< [s] = step_count * dt
   /// Particles in the order given at construction; force/torque from the last evaluation.
   virtual const Particles& particles() const = 0;
+  /// The particles this rank owns, in construction order: with several ranks (the fast
+  /// engine's decomposition) a part of particles(), not collective (per-rank output pieces).
+  virtual Particles owned_particles() const { return particles(); }
   virtual Energies energies() const = 0;
   /// A cheap screen for the per-step run checks (run_diagnostics.hpp): false if some
   /// position, velocity or angular velocity may not be finite (then the checks scan the

@@ -73,6 +73,7 @@ struct OutputSpec {
   bool csv = false;
   bool vtk = false;
   bool pov = false;
+  bool vtu = false;  ///< VTK XML frames (vtu_writer.hpp): .vtu, .pvtu with several ranks, frames.pvd
   bool progress = true;
   long loads_every = 0;        ///< loads.csv interval in steps; 0 = no loads.csv (load_log.hpp)
   bool loads_average = false;  ///< loads.csv rows are means over the interval

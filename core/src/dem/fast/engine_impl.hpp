@@ -5,7 +5,7 @@
 //   cell_sort.cpp           the owned particles sorted by cell
 //   neighbour_list.cpp      Verlet lists, mirror links, boundaries near each particle
 //   history_carry_over.cpp  contact histories carried across a list build (and ranks)
-//   global_sums.cpp         sums over particles in construction order (energies, loads)
+//   global_sums.cpp         exact sums over particles (energies, loads): any order, same bits
 //   step.cpp                one time step: kicks, drift, list builds, force evaluation
 //   fast_checkpoint.cpp     save_state / restore_state
 //   fast_engine.cpp         the DemEngine interface
@@ -28,7 +28,7 @@
 #include "near_members.hpp"
 #include "pack.hpp"
 #include "ppohdem/dem/cell_grid.hpp"
-#include "ppohdem/dem/ordered_sum.hpp"
+#include "ppohdem/dem/exact_sum.hpp"
 #include "ppohdem/dem/pair_laws.hpp"
 #include "ppohdem/error.hpp"
 
@@ -49,18 +49,45 @@ void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
   a.swap(b);
 }
 
-/// ordered_sum.hpp's sum of term(0) .. term(n-1) with its blocks summed on the OpenMP threads:
-/// the same bits as the serial ordered_sum for any thread count.
-template <std::size_t K, class Term>
-std::array<double, K> parallel_ordered_sum(std::size_t n, const Term& term) {
-  std::vector<std::array<double, K>> blocks(sum_blocks(n));
-  const std::size_t count = blocks.size();
-  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
-  for (std::size_t b = 0; b < count; ++b) {
-    blocks[b] = sum_range<K>(b * kSumBlock, std::min(n, (b + 1) * kSumBlock), term);
+/// The sums of one evaluation over the particles, exact until rounded (exact_sum.hpp), so
+/// that the threads' and the ranks' partial sums merge in any order to the same bits: the
+/// seven energy terms, then per boundary its load's force and moment about the origin (x, y, z).
+struct EvaluationSums {
+  static constexpr std::size_t kEnergies = 7;  ///< elastic, dissipated, work, power, kinetic, rotational, gravitational
+  std::vector<ExactSum> sums;
+  explicit EvaluationSums(std::size_t boundaries) : sums(kEnergies + 6 * boundaries) {}
+  ExactSum* energy() { return sums.data(); }
+  ExactSum* load(std::size_t boundary) { return sums.data() + kEnergies + 6 * boundary; }
+  void merge(const EvaluationSums& other) {
+    for (std::size_t c = 0; c < sums.size(); ++c) sums[c].merge(other.sums[c]);
   }
-  return add_blocks(blocks);
-}
+  void reset() {
+    for (ExactSum& sum : sums) sum.reset();
+  }
+  /// Every rank's sums merged, on every rank: ONE allreduce of the sums' integer words
+  /// (Comm::sum_over_ranks), whatever the particle count. Collective.
+  void merge_over_ranks(const Comm& comm) {
+    std::vector<std::int64_t> words(sums.size() * ExactSum::kWords);
+    for (std::size_t c = 0; c < sums.size(); ++c) {
+      const auto w = sums[c].words();
+      std::copy(w.begin(), w.end(), words.begin() + static_cast<std::ptrdiff_t>(c * ExactSum::kWords));
+    }
+    comm.sum_over_ranks(words);
+    for (std::size_t c = 0; c < sums.size(); ++c) {
+      sums[c] = ExactSum::from_words(std::span<const std::int64_t, ExactSum::kWords>(words.data() + c * ExactSum::kWords, ExactSum::kWords));
+    }
+  }
+  /// The rounded loads (one per boundary).
+  std::vector<BoundaryLoad> loads(std::size_t boundaries) {
+    std::vector<BoundaryLoad> out(boundaries);
+    for (std::size_t b = 0; b < boundaries; ++b) {
+      const ExactSum* l = load(b);
+      out[b].force = Vec3(l[0].value(), l[1].value(), l[2].value());
+      out[b].moment_about_origin = Vec3(l[3].value(), l[4].value(), l[5].value());
+    }
+    return out;
+  }
+};
 
 /// A spring that is not the empty history (the kernel resets ended contacts to TangentialSpring{}).
 
@@ -199,8 +226,7 @@ struct FastEngine::Impl {
   /// summed in the evaluation's pass (reduce_one_rank); invalid after a (re)load.
   std::array<double, 3> motion_sums{};
   bool motion_valid = false;
-  std::vector<std::array<double, 7>> block_sums;  ///< reduce_one_rank's per-block partial sums
-  mutable std::vector<BoundaryLoad> block_loads;  ///< blocks x boundaries
+  mutable std::vector<EvaluationSums> thread_sums;  ///< sum_owned's partial sums, one per thread (reused)
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
   /// A list build's histories (build_lists): kept between builds so that their storage is
@@ -208,7 +234,6 @@ struct FastEngine::Impl {
   /// pass"). They stay in the order before the
   /// cell sort: install_history reads them through the sort's order.
   History history;
-  std::vector<std::array<double, 7>> all_terms;  ///< several ranks: every particle's energy terms by construction index
 
   /// Keeps the particles this rank owns (all of them on one rank).
   void load_particles(const Particles& particles);
@@ -305,33 +330,6 @@ struct FastEngine::Impl {
   /// rank: independent of the decomposition and of the cell order.
   void add_lost_energy();
 
-  /// Per-particle terms of the WHOLE system in construction order, on every rank:
-  /// out[o * columns + c] = column c of particle o, filled by term(k, row) for owned k.
-  template <class Term>
-  std::vector<double> global_columns(std::size_t columns, Term term) const {
-    std::vector<double> all(total * columns, 0.0);
-    if (!distributed()) {
-      for (std::size_t k = 0; k < s.owned; ++k) term(k, &all[s.original[k] * columns]);
-      return all;
-    }
-    Bytes mine;
-    Packer p(mine);
-    std::vector<double> row(columns);
-    for (std::size_t k = 0; k < s.owned; ++k) {
-      term(k, row.data());
-      p.put(s.original[k]);
-      for (const double v : row) p.put(v);
-    }
-    for (const Bytes& block : comm->allgather(mine)) {
-      Unpacker u(block);
-      while (!u.done()) {
-        const auto o = u.get<std::uint32_t>();
-        for (std::size_t c = 0; c < columns; ++c) u.get(all[o * columns + c]);
-      }
-    }
-    return all;
-  }
-
   /// A force evaluation and the sums over particles. `closing_kick` (a step): the second half
   /// kick runs between the kernel and the sums, and with one rank the kinetic, rotational and
   /// gravitational sums of the new state come out of the same pass (cached for energies()).
@@ -339,60 +337,52 @@ struct FastEngine::Impl {
   /// s.reach for the evaluation at `time` [s] (step.cpp).
   void update_reach(double time);
 
-  /// A boundary record as sent between ranks (plain arrays: sent as bytes).
-  struct Load {
-    std::uint32_t original, boundary, feature;
-    double force[3], point[3], rolling[3];
-  };
-
-  /// This rank's boundary records of the last evaluation, by construction index.
-  std::vector<Load> own_loads() const;
-
-  /// Boundary loads from every rank's records: minus the records' forces, in (construction
-  /// index, boundary) order grouped in the blocks of construction indices of ordered_sum.hpp
-  /// (each block from zero, then the blocks in order): the same bits for one rank (blocks on
-  /// the threads, sum_loads) and several (the gathered records sorted).
-  void add_gathered_loads(std::vector<Load>& all_records) const;
-
   /// A record's load on its boundary: minus the contact force on the particle, its moment
-  /// about the origin, minus the rolling torque on the particle [N, N m].
-  void add_load(BoundaryLoad* block, std::uint32_t boundary, const Vec3& force, const Vec3& point,
+  /// about the origin, minus the rolling torque on the particle [N, N m]: the terms the
+  /// reference adds (force_passes.hpp), each exactly.
+  void add_load(EvaluationSums& to, std::uint32_t boundary, const Vec3& force, const Vec3& point,
                 const Vec3& rolling) const {  // inline: once per boundary record in the per-step sums
-    block[boundary].force -= force;
-    block[boundary].moment_about_origin += point.cross(-force);
-    if (s.rolling) block[boundary].moment_about_origin -= rolling;
-  }
-
-  /// Adds minus the forces of particle k's boundary records to the loads `block` (one per
-  /// boundary), in boundary order.
-  void add_records(BoundaryLoad* block, std::size_t k) const {
-    for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
-      add_load(block, s.records[r].boundary, s.records[r].force, s.records[r].point, s.records[r].rolling);
+    ExactSum* load = to.load(boundary);
+    const Vec3 moment = point.cross(-force);
+    for (int c = 0; c < 3; ++c) {
+      load[c].add(-force[c]);
+      load[3 + c].add(moment[c]);
+      if (s.rolling) load[3 + c].add(-rolling[c]);
     }
   }
+
+  /// Adds the loads of owned particle k's boundary records.
+  void add_records(EvaluationSums& to, std::size_t k) const {
+    for (std::uint32_t r = s.record_first[k]; r < s.record_first[k + 1]; ++r) {
+      add_load(to, s.records[r].boundary, s.records[r].force, s.records[r].point, s.records[r].rolling);
+    }
+  }
+
+  /// This rank's sums over its owned particles (the threads' partial sums merged): the
+  /// contact energy terms if `contact`, the motion terms of the terms records if `motion`
+  /// (written by close_kick), the boundary loads if `with_loads`.
+  EvaluationSums sum_owned(bool contact, bool motion, bool with_loads) const;
+
+  /// Kinetic, rotational and gravitational energy of the whole system from the state
+  /// (collective with several ranks).
+  std::array<double, 3> motion_energies() const;
 
   /// Owned particles that have crossed a boundary (one rank: all of them).
   std::size_t count_escaped() const;
 
-  /// The loads of the last evaluation when they were not summed with it: one rank
-  /// (lazy_sums()) as reduce_one_rank sums them; several ranks with the energies untracked
-  /// gathered as evaluate_forces gathers them when tracked (collective).
+  /// The loads of the last evaluation when they were not summed with it (lazy_sums(), or
+  /// several ranks with the energies untracked): sum_owned's loads, merged over the ranks
+  /// (collective).
   void sum_loads() const;
-
-  /// loads = the blocks' loads (block_loads, blocks x boundaries) added in block order from zero.
-  void add_block_loads() const;
 
   /// The contact energy terms of one evaluation added to the accumulators.
   void add_contact_sums(const std::array<double, 4>& sums, double history_dt);
 
-  /// One rank: every sum over particles in ONE pass over the blocks of construction indices of
-  /// ordered_sum.hpp (the blocks on the threads): the four contact energy terms, the escaped
-  /// count, the boundary loads (minus the records' forces, in (construction index, boundary)
-  /// order within a block) and, after a closing kick, the kinetic, rotational and
-  /// gravitational energies. Each sum is the one the separate ordered sums would give, bit for
-  /// bit (the same terms in the same order); one pass reads each particle once instead of
-  /// three or four times.
-  void reduce_one_rank(double history_dt, bool motion);
+  /// The sums of an evaluation with the energies tracked, in ONE pass over the owned
+  /// particles (sum_owned), merged over the ranks by one allreduce: the contact energy terms,
+  /// the boundary loads and, after a closing kick, the kinetic, rotational and gravitational
+  /// energies (cached for energies()).
+  void add_evaluation_sums(double history_dt, bool motion);
 
   /// The second half kick of every owned particle (close_kick, fast_state.hpp) unless the
   /// kernel's sum pass applied it; the next step's first half kick reuses it.

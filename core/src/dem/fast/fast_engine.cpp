@@ -60,6 +60,27 @@ LoadReport FastEngine::load_report() const { return impl_->load_report(); }
 std::size_t FastEngine::owned_count() const { return impl_->s.owned; }
 std::size_t FastEngine::ghost_count() const { return impl_->s.size() - impl_->s.owned; }
 
+Particles FastEngine::owned_particles() const {
+  const FastState& s = impl_->s;
+  std::vector<std::uint32_t> by_original(s.owned);  // storage indices in construction order
+  for (std::uint32_t k = 0; k < s.owned; ++k) by_original[k] = k;
+  std::sort(by_original.begin(), by_original.end(), [&](std::uint32_t a, std::uint32_t b) { return s.original[a] < s.original[b]; });
+  Particles owned(s.owned);
+  for (std::size_t i = 0; i < owned.size(); ++i) {
+    const std::size_t k = by_original[i];
+    Particle& p = owned[i];
+    p.id = s.id[k];
+    p.position = s.x[k];
+    p.velocity = s.v[k];
+    p.angular_velocity = s.w[k];
+    p.radius = s.radius[k];
+    p.material = s.material[k];
+    p.force = s.f[k];
+    p.torque = s.t[k];
+  }
+  return owned;
+}
+
 const Particles& FastEngine::particles() const {
   Impl& m = *impl_;
   if (!m.out_valid) {
@@ -117,23 +138,9 @@ const Particles& FastEngine::particles() const {
 
 Energies FastEngine::energies() const {
   const Impl& m = *impl_;
-  const FastState& s = m.s;
-  // The reference's expressions and its summation order (ordered_sum.hpp): the same bits.
-  auto energy_terms = [&](std::size_t i) { return motion_terms(m.s, i); };
-  std::array<double, 3> sums{};
-  if (m.motion_valid) {  // summed by the last step's pass (and gathered with several ranks)
-    sums = m.motion_sums;
-  } else if (!m.distributed()) {  // every particle here: construction order through `where`
-    sums = parallel_ordered_sum<3>(m.total, [&](std::size_t o) { return energy_terms(s.where[o]); });
-  } else {
-    const std::vector<double> terms = m.global_columns(3, [&](std::size_t i, double* t) {
-      const auto e = energy_terms(i);
-      std::copy(e.begin(), e.end(), t);
-    });
-    sums = parallel_ordered_sum<3>(m.total, [&](std::size_t o) {
-      return std::array{terms[3 * o], terms[3 * o + 1], terms[3 * o + 2]};
-    });
-  }
+  // The reference's terms, summed exactly and rounded once (exact_sum.hpp): the same bits.
+  const std::array<double, 3> sums = m.motion_valid ? m.motion_sums  // summed by the last step's pass
+                                                    : m.motion_energies();
   Energies e;
   e.kinetic = sums[0];
   e.rotational = sums[1];
@@ -183,7 +190,7 @@ std::size_t FastEngine::memory_bytes() const {
   for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
   for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
   pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes.x) + bytes(impl_->search_probes.y) + bytes(impl_->search_probes.z) +
-                bytes(impl_->search_probes.r) + bytes(impl_->all_terms);  // the engine's reused work buffers
+                bytes(impl_->search_probes.r);  // the engine's reused work buffers
   for (const auto& buffer : impl_->search_buffers) pool_bytes += bytes(buffer);
   const History& h = impl_->history;  // kept between list builds
   pool_bytes += bytes(h.first) + bytes(h.partner_id) + bytes(h.spring) + bytes(h.record_first) + bytes(h.records);

@@ -1,32 +1,62 @@
-// Sums over particles in construction order, the same bits for any thread and rank count
-// (ordered_sum.hpp): contact energies, escaped counts and boundary loads.
+// Sums over particles, exact until one rounding (ppohdem/dem/exact_sum.hpp): the same bits for
+// any thread count, rank count and storage order, without gathering any particle's terms
+// (docs/dem.md "Sums over particles"): contact energies, boundary loads, escaped counts.
 #include "engine_impl.hpp"
 
 namespace ppohdem::dem::fast {
 
-std::vector<FastEngine::Impl::Load> FastEngine::Impl::own_loads() const {
-  std::vector<Load> mine(s.records.size());
-  for (std::size_t r = 0; r < s.records.size(); ++r) {
-    const BoundaryRecord& record = s.records[r];
-    mine[r] = {s.original[record.particle], record.boundary, record.feature, {record.force.x(), record.force.y(), record.force.z()},
-               {record.point.x(), record.point.y(), record.point.z()},
-               {record.rolling.x(), record.rolling.y(), record.rolling.z()}};
+EvaluationSums FastEngine::Impl::sum_owned(bool contact, bool motion, bool with_loads) const {
+  const std::size_t nb = s.boundaries.size();
+  const std::size_t n = s.owned;
+  const auto threads = static_cast<std::size_t>(n >= kParallelMin ? max_threads() : 1);
+  if (thread_sums.size() < threads || thread_sums.front().sums.size() != EvaluationSums::kEnergies + 6 * nb) {
+    thread_sums.assign(threads, EvaluationSums(nb));
   }
-  return mine;
+  PPOHDEM_OMP(omp parallel num_threads(static_cast<int>(threads)) if (threads > 1))
+  {
+    EvaluationSums& mine = thread_sums[static_cast<std::size_t>(thread_id())];  // merged in any order below
+    mine.reset();
+    ExactSum* const e = mine.energy();
+    PPOHDEM_OMP(omp for schedule(static))
+    for (std::size_t k = 0; k < n; ++k) {
+      const FastState::ParticleTerms& c = s.terms[k];
+      if (contact) {
+        e[0].add(c.elastic);
+        e[1].add(c.dissipated);
+        e[2].add(c.work);
+        e[3].add(c.power);
+      }
+      if (motion) {
+        e[4].add(c.kinetic);
+        e[5].add(c.rotational);
+        e[6].add(c.gravitational);
+      }
+      if (with_loads) add_records(mine, k);
+    }
+  }
+  EvaluationSums all = thread_sums[0];
+  for (std::size_t t = 1; t < threads; ++t) all.merge(thread_sums[t]);
+  return all;
 }
 
-void FastEngine::Impl::add_gathered_loads(std::vector<Load>& all_records) const {
-  const std::size_t nb = s.boundaries.size();
-  block_loads.assign(sum_blocks(total) * nb, BoundaryLoad{});
-  std::sort(all_records.begin(), all_records.end(), [](const Load& a, const Load& b) {
-    return std::tuple(a.original, a.boundary, a.feature) < std::tuple(b.original, b.boundary, b.feature);
-  });
-  for (const Load& r : all_records) {
-    add_load(block_loads.data() + r.original / kSumBlock * nb, r.boundary, Vec3(r.force[0], r.force[1], r.force[2]),
-             Vec3(r.point[0], r.point[1], r.point[2]), Vec3(r.rolling[0], r.rolling[1], r.rolling[2]));
+std::array<double, 3> FastEngine::Impl::motion_energies() const {
+  const std::size_t n = s.owned;
+  ExactSums<3> all;
+  PPOHDEM_OMP(omp parallel if (n >= kParallelMin))
+  {
+    ExactSums<3> mine;
+    PPOHDEM_OMP(omp for schedule(static) nowait)
+    for (std::size_t k = 0; k < n; ++k) mine.add(motion_terms(s, k));
+    PPOHDEM_OMP(omp critical(ppohdem_fast_sums))
+    all.merge(mine);
   }
-  add_block_loads();
-  loads_stale = false;
+  if (distributed()) {
+    EvaluationSums three(0);  // its first three energy sums carry the motion terms
+    for (std::size_t c = 0; c < 3; ++c) three.energy()[c] = all.sum[c];
+    three.merge_over_ranks(*comm);
+    for (std::size_t c = 0; c < 3; ++c) all.sum[c] = three.energy()[c];
+  }
+  return all.values();
 }
 
 std::size_t FastEngine::Impl::count_escaped() const {
@@ -35,42 +65,10 @@ std::size_t FastEngine::Impl::count_escaped() const {
 }
 
 void FastEngine::Impl::sum_loads() const {
-  if (distributed()) {  // collective: every rank's records (made on every rank, run.cpp)
-    const std::vector<Load> mine = own_loads();
-    Bytes packed;
-    Packer pk(packed);
-    pk.put(static_cast<std::uint64_t>(mine.size()));
-    pk.put_rows(mine.data(), mine.size());
-    std::vector<Load> all_records;
-    for (const Bytes& block : comm->allgather(packed)) {
-      Unpacker u(block);
-      u.get_rows(all_records, u.get<std::uint64_t>());
-    }
-    add_gathered_loads(all_records);
-    return;
-  }
-  const std::size_t nb = s.boundaries.size();
-  const std::size_t count = sum_blocks(total);
-  block_loads.assign(count * nb, BoundaryLoad{});
-  PPOHDEM_OMP(omp parallel for schedule(static) if (total >= kParallelMin))
-  for (std::size_t b = 0; b < count; ++b) {
-    for (std::size_t o = b * kSumBlock; o < std::min(total, (b + 1) * kSumBlock); ++o) {
-      add_records(block_loads.data() + b * nb, s.where[o]);
-    }
-  }
-  add_block_loads();
+  EvaluationSums sums = sum_owned(false, false, true);
+  if (distributed()) sums.merge_over_ranks(*comm);  // collective: every rank asks (run.cpp)
+  loads = sums.loads(s.boundaries.size());
   loads_stale = false;
-}
-
-void FastEngine::Impl::add_block_loads() const {
-  const std::size_t nb = s.boundaries.size();
-  loads.assign(nb, BoundaryLoad{});
-  for (std::size_t first = 0; first < block_loads.size(); first += nb) {
-    for (std::size_t j = 0; j < nb; ++j) {
-      loads[j].force += block_loads[first + j].force;
-      loads[j].moment_about_origin += block_loads[first + j].moment_about_origin;
-    }
-  }
 }
 
 void FastEngine::Impl::add_contact_sums(const std::array<double, 4>& sums, double history_dt) {
@@ -85,41 +83,18 @@ void FastEngine::Impl::add_contact_sums(const std::array<double, 4>& sums, doubl
   power = p;
 }
 
-void FastEngine::Impl::reduce_one_rank(double history_dt, bool motion) {
-  const std::size_t nb = s.boundaries.size();
-  const std::size_t count = sum_blocks(total);
-  block_sums.assign(count, {});
-  block_loads.assign(count * nb, BoundaryLoad{});
-  PPOHDEM_OMP(omp parallel for schedule(static) if (total >= kParallelMin))
-  for (std::size_t b = 0; b < count; ++b) {
-    std::array<double, 7> sum{};
-    BoundaryLoad* to = block_loads.data() + b * nb;
-    for (std::size_t o = b * kSumBlock; o < std::min(total, (b + 1) * kSumBlock); ++o) {
-      const std::size_t k = s.where[o];
-      const FastState::ParticleTerms& c = s.terms[k];
-      sum[0] += c.elastic;
-      sum[1] += c.dissipated;
-      sum[2] += c.work;
-      sum[3] += c.power;
-      if (motion) {  // written by close_step
-        sum[4] += c.kinetic;
-        sum[5] += c.rotational;
-        sum[6] += c.gravitational;
-      }
-      add_records(to, k);
-    }
-    block_sums[b] = sum;
-  }
-  const std::array<double, 7> sums = add_blocks(block_sums);
-  add_contact_sums({sums[0], sums[1], sums[2], sums[3]}, history_dt);
+void FastEngine::Impl::add_evaluation_sums(double history_dt, bool motion) {
+  EvaluationSums sums = sum_owned(true, motion, true);
+  if (distributed()) sums.merge_over_ranks(*comm);
+  std::array<double, 7> e{};
+  for (std::size_t c = 0; c < 7; ++c) e[c] = sums.energy()[c].value();
+  add_contact_sums({e[0], e[1], e[2], e[3]}, history_dt);
   if (motion) {
-    motion_sums = {sums[4], sums[5], sums[6]};
+    motion_sums = {e[4], e[5], e[6]};
     motion_valid = true;
   }
-  // A count (in storage order: the sums above visit the particles in construction order,
-  // a random order in memory).
-  escaped = count_escaped();
-  add_block_loads();
+  loads = sums.loads(s.boundaries.size());
+  loads_stale = false;
   out_valid = false;
 }
 

@@ -27,42 +27,22 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
     return;
   }
   if (!distributed()) {
-    reduce_one_rank(history_dt, closing_kick);
+    escaped = count_escaped();
+    if (energy_balance) add_evaluation_sums(history_dt, closing_kick);
+    out_valid = false;
     return;
   }
-  // What the sums need from every rank, in ONE allgather per evaluation (with several
-  // ranks): counts, the deepest contact and, with the energies tracked, the per-particle
-  // energy terms (after a step's closing kick with the motion terms, so energies() needs no
-  // gather of its own) and the boundary records, the tables as rows of bytes. Sums in
-  // construction order: independent of the cell sort (so of restarts), of the decomposition
-  // and of the thread count. Untracked, the energies and the loads are gathered and summed
-  // when asked (the same rows in the same order, so the same bits): gathering every
-  // particle's 64-byte row at every step is O(N) per rank (docs/performance.md "Ranks gather
-  // only what is asked, untracked").
-  struct TermRow {  // 64 bytes: construction index and the 7 terms
-    std::uint32_t original, unused;
-    double values[7];  // elastic, dissipated, work, power, kinetic, rotational, gravitational
-  };
-  const bool gather_sums = energy_balance;
-  std::vector<Load> all_records;
-  std::vector<TermRow> term_rows;
-  const std::size_t owned = s.owned;
-  const std::size_t escaped_here = count_escaped();
-  std::array<double, 7> sums{};  // (elastic, dissipated, work, power [J, J, J, W]; motion terms [J])
+  // What the run needs from every rank besides the sums, in ONE allgather of a few bytes per
+  // rank: the counts, the deepest contact and the screen of the motion. With the energies
+  // tracked the energy terms and the loads are exact sums merged by one allreduce of fixed
+  // size (add_evaluation_sums), O(1) per rank whatever N; untracked, the loads are summed when
+  // asked (sum_loads).
   {
-    if (gather_sums) {
-      term_rows.resize(owned);
-      for (std::size_t k = 0; k < owned; ++k) {
-        const FastState::ParticleTerms& c = s.terms[k];
-        term_rows[k] = {s.original[k], 0, {c.elastic, c.dissipated, c.work, c.power, c.kinetic, c.rotational, c.gravitational}};
-      }
-    }
-    const std::vector<Load> my_records = gather_sums ? own_loads() : std::vector<Load>{};
     Bytes mine;
     Packer pk(mine);
     pk.put(static_cast<std::uint64_t>(s.pair_contacts));
     pk.put(static_cast<std::uint64_t>(s.boundary_contacts));
-    pk.put(static_cast<std::uint64_t>(escaped_here));
+    pk.put(static_cast<std::uint64_t>(count_escaped()));
     pk.put(static_cast<std::uint8_t>(std::isfinite(s.screen) ? 1 : 0));
     pk.put(static_cast<std::uint8_t>(s.deepest ? 1 : 0));
     if (s.deepest) {
@@ -72,16 +52,11 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
       pk.put(s.deepest->id_b);
       pk.put(s.deepest->boundary);
     }
-    pk.put(static_cast<std::uint64_t>(term_rows.size()));
-    pk.put_rows(term_rows.data(), term_rows.size());
-    pk.put(static_cast<std::uint64_t>(my_records.size()));
-    pk.put_rows(my_records.data(), my_records.size());
     s.pair_contacts = 0;
     s.boundary_contacts = 0;
     escaped = 0;
     screens_finite = true;
     s.deepest.reset();
-    if (gather_sums) all_terms.resize(total);  // every construction index is owned by one rank: all written
     for (const Bytes& block : comm->allgather(mine)) {
       Unpacker u(block);
       s.pair_contacts += u.get<std::uint64_t>();
@@ -99,24 +74,14 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
         u.get(c.boundary);
         keep_deeper(s.deepest, c);
       }
-      term_rows.clear();
-      u.get_rows(term_rows, u.get<std::uint64_t>());
-      for (const TermRow& row : term_rows) std::copy(row.values, row.values + 7, all_terms[row.original].begin());
-      u.get_rows(all_records, u.get<std::uint64_t>());
     }
   }
   out_valid = false;
-  if (!gather_sums) {  // energies() and boundary_loads() gather and sum when asked
+  if (!energy_balance) {  // energies() and boundary_loads() sum when asked
     loads_stale = true;
     return;
   }
-  sums = parallel_ordered_sum<7>(total, [&](std::size_t o) { return all_terms[o]; });
-  if (closing_kick) {
-    motion_sums = {sums[4], sums[5], sums[6]};
-    motion_valid = true;
-  }
-  add_contact_sums({sums[0], sums[1], sums[2], sums[3]}, history_dt);
-  add_gathered_loads(all_records);
+  add_evaluation_sums(history_dt, closing_kick);
 }
 
 void FastEngine::Impl::close_step() {

@@ -26,13 +26,14 @@
 ///   - the contact history of a pair is kept by its lower-id side (a ghost's pair by both
 ///     ranks, mirrored), keyed by the partner's global id and carried over by id when the list
 ///     is rebuilt (the higher-id side's is the exact mirror, derived when needed);
-///   - energies, counts and boundary loads are summed per particle and then over particles in
-///     the blocked construction order of ppohdem/dem/ordered_sum.hpp (blocks of 1024 summed on
-///     the threads, then the block sums in order; histories dropped at a list build: by
-///     construction index, then partner id): the same for any thread count, storage order and
-///     rank count. Kinetic, rotational and gravitational energy are the reference's sums bit
-///     for bit (it sums in the same blocks); the contact terms differ from the reference's
-///     single running sum over pairs by round-off (relative ~1e-15 per step);
+///   - energies and boundary loads are summed per particle (loads: per boundary record) and
+///     then over particles exactly, rounded once to the nearest double (ppohdem/dem/exact_sum.hpp):
+///     the threads' and ranks' partial sums merge in any order to the same bits, so the sums
+///     are the same for any thread count, storage order and rank count (histories dropped at
+///     a list build: by construction index, then partner id). Kinetic, rotational and
+///     gravitational energy and the boundary loads are the reference's sums bit for bit (it
+///     sums the same terms exactly); the contact energy terms differ from the reference's
+///     exact sum over contacts by the round-off of the per-particle sums (relative ~1e-15);
 ///   - the force loop gives each thread one contiguous range of particles cut by estimated
 ///     work (neighbour slots, touching slots) at every list build, so a bed whose contacts lie
 ///     in one part of the cell order keeps both threads busy;
@@ -48,7 +49,7 @@
 /// built at every list build (the rebuild
 /// decision is the maximum over ranks), the halo refreshed after every drift; contact
 /// histories migrate with their particle. Per-particle forces are summed in an order of the partners'
-/// global ids and global sums in construction order, so the trajectories, energies and outputs are BIT
+/// global ids and global sums exact (one allreduce of fixed size), so the trajectories, energies and outputs are BIT
 /// FOR BIT those of one rank. With more than one rank, particles(), energies(), save_state()
 /// and restore_state() are collective (every rank calls them, in the same order) and return
 /// the whole system on every rank; the other queries are global values cached at each step.
@@ -148,6 +149,8 @@ class FastEngine final : public DemEngine {
   long step_count() const override;
   double time() const override;
   const Particles& particles() const override;
+  /// This rank's particles in construction order (not collective).
+  Particles owned_particles() const override;
   Energies energies() const override;
   ContactCounts contact_counts() const override;
   std::size_t escaped_count() const override;

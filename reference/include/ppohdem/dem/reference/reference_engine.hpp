@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/exact_sum.hpp"
 
 namespace ppohdem::dem::reference {
 
@@ -42,9 +43,11 @@ struct ForceContext {
   const std::vector<double>& mass;      ///< m [kg], same order as particles
   double time = 0.0;                    ///< t of the evaluation [s]
   double dt = 0.0;                      ///< history increment interval [s] (0 at start-up)
-  double elastic = 0.0;                 ///< stored energy summed by the passes [J]
-  double dissipated = 0.0;              ///< energy removed in this evaluation [J]
-  double boundary_work = 0.0;           ///< work done by moving boundaries [J]
+  // The contacts' energy terms, summed exactly and rounded once when read (exact_sum.hpp:
+  // the correctly rounded sum of the terms, whatever their order) [J].
+  ppohdem::dem::ExactSum elastic;        ///< stored energy summed by the passes [J]
+  ppohdem::dem::ExactSum dissipated;     ///< energy removed in this evaluation [J]
+  ppohdem::dem::ExactSum boundary_work;  ///< work done by moving boundaries [J]
   std::optional<ppohdem::dem::LargestOverlap> deepest = std::nullopt;  ///< deepest contact so far
 
   /// Record a contact's overlap delta [m] relative to `radius` [m] (the smaller radius).
