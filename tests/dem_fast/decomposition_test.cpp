@@ -77,7 +77,9 @@ TEST(Decomposition, OrderedKeysSortAsTheDoublesDo) {
                            std::numeric_limits<double>::infinity()};
   for (std::size_t i = 0; i < v.size(); ++i) {
     EXPECT_EQ(std::bit_cast<std::uint64_t>(fast::from_ordered_key(fast::ordered_key(v[i]))), std::bit_cast<std::uint64_t>(v[i]));
-    if (i > 0) EXPECT_LT(fast::ordered_key(v[i - 1]), fast::ordered_key(v[i])) << v[i - 1] << " < " << v[i];
+    if (i > 0) {
+      EXPECT_LT(fast::ordered_key(v[i - 1]), fast::ordered_key(v[i])) << v[i - 1] << " < " << v[i];
+    }
   }
   EXPECT_LT(fast::ordered_id(-5), fast::ordered_id(-4));
   EXPECT_LT(fast::ordered_id(-1), fast::ordered_id(0));
