@@ -60,6 +60,24 @@ LoadReport FastEngine::load_report() const { return impl_->load_report(); }
 std::size_t FastEngine::owned_count() const { return impl_->s.owned; }
 std::size_t FastEngine::ghost_count() const { return impl_->s.size() - impl_->s.owned; }
 
+namespace {
+
+/// The particle record of storage index k (the fields a Particle carries).
+Particle particle_at(const FastState& s, std::size_t k) {
+  Particle p;
+  p.id = s.id[k];
+  p.position = s.x[k];
+  p.velocity = s.v[k];
+  p.angular_velocity = s.w[k];
+  p.radius = s.radius[k];
+  p.material = s.material[k];
+  p.force = s.f[k];
+  p.torque = s.t[k];
+  return p;
+}
+
+}  // namespace
+
 Particles FastEngine::owned_particles() const {
   const FastState& s = impl_->s;
   std::vector<std::uint32_t> by_original(s.owned);  // storage indices in construction order
@@ -67,16 +85,7 @@ Particles FastEngine::owned_particles() const {
   std::sort(by_original.begin(), by_original.end(), [&](std::uint32_t a, std::uint32_t b) { return s.original[a] < s.original[b]; });
   Particles owned(s.owned);
   for (std::size_t i = 0; i < owned.size(); ++i) {
-    const std::size_t k = by_original[i];
-    Particle& p = owned[i];
-    p.id = s.id[k];
-    p.position = s.x[k];
-    p.velocity = s.v[k];
-    p.angular_velocity = s.w[k];
-    p.radius = s.radius[k];
-    p.material = s.material[k];
-    p.force = s.f[k];
-    p.torque = s.t[k];
+    owned[i] = particle_at(s, by_original[i]);
   }
   return owned;
 }
@@ -90,15 +99,7 @@ const Particles& FastEngine::particles() const {
     Bytes mine;
     Packer pk(mine);
     for (std::size_t k = 0; k < s.owned; ++k) {
-      Particle p;
-      p.id = s.id[k];
-      p.position = s.x[k];
-      p.velocity = s.v[k];
-      p.angular_velocity = s.w[k];
-      p.radius = s.radius[k];
-      p.material = s.material[k];
-      p.force = s.f[k];
-      p.torque = s.t[k];
+      const Particle p = particle_at(s, k);
       if (!m.distributed()) {
         fill(s.original[k], p);
         continue;
