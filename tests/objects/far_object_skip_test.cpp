@@ -106,7 +106,7 @@ TEST(ObjectReach, HoldsForAFieldThatIsNoDistance) {
   for (int k = 4; k < 6; ++k)
     for (int j = 3; j < 5; ++j) field.at(5, j, k) = -2e-3;
   const DistanceFieldObject object(field, turning_motion(), "odd");
-  expect_reach_holds(object, 1e-3, 10000, 20, 7);  // 31 touching probes (run of 2026-12-05)
+  expect_reach_holds(object, 1e-3, 10000, 20, 7);  // 31 touching probes in this draw
 }
 
 /// The scene of the engine tests: 500 spheres in a box, the scoop driven into them (down and
@@ -173,8 +173,8 @@ TEST(FarObjectSkip, SameBitsWithAndWithoutTheSkipAndAsTheReferenceEngine) {
         return std::make_unique<fast::FastEngine>(s, o);
       });
       const RunResult reference = run(text, [](const SimulationSetup& s) { return std::make_unique<ReferenceEngine>(s); });
-      // Not vacuous: the scoop pushed on the spheres (in 78 of the 400 steps with 300 spheres,
-      // run of 2026-12-05); with the grid cut to the mesh's box, the centres under its plate
+      // Not vacuous: the scoop pushed on the spheres (in 78 of the 400 steps with 300
+      // spheres); with the grid cut to the mesh's box, the centres under its plate
       // are outside the grid and have no contact (the warning's case).
       if (margin > 0) {
         EXPECT_GT(skipped.object_contacts, 50u);

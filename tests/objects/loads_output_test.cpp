@@ -104,7 +104,7 @@ TEST(LoadsOutput, InstantAndAveragedLoadsOfASphereOnAFloor) {
   }
 
   // Settled (20 ms, the bounces damped by e = 0.5): the weight. What is left of the motion
-  // changes the load by 5e-8 of the weight at 20 ms (run of 2026-12-04); bound 1e-6. The moment
+  // changes the load by 5e-8 of the weight at 20 ms; bound 1e-6. The moment
   // of that force at (x, y, 0), to round-off.
   const auto& last = a.at(kSteps);
   std::printf("settled load: F_z / (m g) + 1 = %.2e\n", last.at(5) / weight + 1.0);

@@ -180,8 +180,8 @@ TEST(MotionProgramCli, ScoopExampleRunsAsOneScene) {
   // fixtures/scenes/scoop/scoop_translate_rotate.toml as a user runs it (24,000 steps, 650
   // spheres, ~3 s): it must finish with its run checks passed (energy balance, overlaps), the
   // scoop must have pushed on the bed while translating and while turning, and carried some
-  // particles up: at the end the scoop rests lifted, and 27 particles are above 2.2 cm (run of
-  // 2026-12-04), where no particle of the settled bed is (its top centres: 1.94 cm). The run is
+  // particles up: at the end the scoop rests lifted, and 27 particles are above 2.2 cm,
+  // where no particle of the settled bed is (its top centres: 1.94 cm). The run is
   // chaotic, so the bound leaves room for another compiler's rounding: at least 15.
   const fs::path dir = scratch_dir();
   for (const char* f : {"scoop_translate_rotate.toml", "scoop.stl"}) {
