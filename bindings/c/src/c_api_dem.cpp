@@ -47,6 +47,52 @@ dem::DemEngine& engine_of(ppohdem_engine* e) {
   return *h.engine;
 }
 
+/// segments[k] of the C struct as a MotionSegment (the types and fields of ppohdem.h).
+MotionSegment segment_of(const ppohdem_motion_segment& c, std::size_t k) {
+  const std::string where = "segments[" + std::to_string(k) + "]";
+  const Vec3 velocity(c.velocity[0], c.velocity[1], c.velocity[2]);
+  auto unit_axis = [&] {
+    const Vec3 axis(c.axis[0], c.axis[1], c.axis[2]);
+    if (!(axis.norm() > 0.0) || !std::isfinite(axis.norm())) throw ArgumentError(where + ".axis: expected a non-zero finite vector");
+    return Vec3(axis.normalized());
+  };
+  auto oscillation = [&](MotionPart& part) {
+    if (!(c.frequency > 0.0) || !std::isfinite(c.frequency)) throw ArgumentError(where + ".frequency: expected a finite number > 0 [Hz]");
+    part.profile = MotionProfile::sine;
+    part.angular_frequency = 2.0 * std::numbers::pi * c.frequency;
+    part.phase = c.phase;
+  };
+  MotionSegment seg;
+  seg.start = c.start;
+  const bool has_point = c.has_point != 0;
+  switch (c.type) {
+    case PPOHDEM_MOTION_REST:
+      break;
+    case PPOHDEM_MOTION_TRANSLATE:
+      seg.translation = {MotionProfile::linear, velocity};
+      break;
+    case PPOHDEM_MOTION_TRANSLATE_ROTATE:
+      seg.translation = {MotionProfile::linear, velocity};
+      [[fallthrough]];
+    case PPOHDEM_MOTION_ROTATE:
+      seg.rotation = {MotionProfile::linear, unit_axis() * c.omega};
+      if (has_point) seg.point = Vec3(c.point[0], c.point[1], c.point[2]);
+      break;
+    case PPOHDEM_MOTION_VIBRATE_TRANSLATE:
+      seg.translation.vector = Vec3(c.amplitude[0], c.amplitude[1], c.amplitude[2]);
+      oscillation(seg.translation);
+      break;
+    case PPOHDEM_MOTION_VIBRATE_ROTATE:
+      seg.rotation.vector = unit_axis() * c.amplitude[0];
+      oscillation(seg.rotation);
+      if (has_point) seg.point = Vec3(c.point[0], c.point[1], c.point[2]);
+      break;
+    default:
+      throw ArgumentError(where + ".type: expected a ppohdem_motion_type (0 to 5), got " + std::to_string(c.type));
+  }
+  return seg;
+}
+
 }  // namespace
 
 extern "C" {
@@ -139,56 +185,6 @@ ppohdem_status ppohdem_scene_add_object(ppohdem_scene* scene, const ppohdem_fiel
     sc.setup.boundaries.push_back(object);
   });
 }
-
-namespace {
-
-/// segments[k] of the C struct as a MotionSegment (the types and fields of ppohdem.h).
-MotionSegment segment_of(const ppohdem_motion_segment& c, std::size_t k) {
-  const std::string where = "segments[" + std::to_string(k) + "]";
-  const Vec3 velocity(c.velocity[0], c.velocity[1], c.velocity[2]);
-  auto unit_axis = [&] {
-    const Vec3 axis(c.axis[0], c.axis[1], c.axis[2]);
-    if (!(axis.norm() > 0.0) || !std::isfinite(axis.norm())) throw ArgumentError(where + ".axis: expected a non-zero finite vector");
-    return Vec3(axis.normalized());
-  };
-  auto oscillation = [&](MotionPart& part) {
-    if (!(c.frequency > 0.0) || !std::isfinite(c.frequency)) throw ArgumentError(where + ".frequency: expected a finite number > 0 [Hz]");
-    part.profile = MotionProfile::sine;
-    part.angular_frequency = 2.0 * std::numbers::pi * c.frequency;
-    part.phase = c.phase;
-  };
-  MotionSegment seg;
-  seg.start = c.start;
-  const bool has_point = c.has_point != 0;
-  switch (c.type) {
-    case PPOHDEM_MOTION_REST:
-      break;
-    case PPOHDEM_MOTION_TRANSLATE:
-      seg.translation = {MotionProfile::linear, velocity};
-      break;
-    case PPOHDEM_MOTION_TRANSLATE_ROTATE:
-      seg.translation = {MotionProfile::linear, velocity};
-      [[fallthrough]];
-    case PPOHDEM_MOTION_ROTATE:
-      seg.rotation = {MotionProfile::linear, unit_axis() * c.omega};
-      if (has_point) seg.point = Vec3(c.point[0], c.point[1], c.point[2]);
-      break;
-    case PPOHDEM_MOTION_VIBRATE_TRANSLATE:
-      seg.translation.vector = Vec3(c.amplitude[0], c.amplitude[1], c.amplitude[2]);
-      oscillation(seg.translation);
-      break;
-    case PPOHDEM_MOTION_VIBRATE_ROTATE:
-      seg.rotation.vector = unit_axis() * c.amplitude[0];
-      oscillation(seg.rotation);
-      if (has_point) seg.point = Vec3(c.point[0], c.point[1], c.point[2]);
-      break;
-    default:
-      throw ArgumentError(where + ".type: expected a ppohdem_motion_type (0 to 5), got " + std::to_string(c.type));
-  }
-  return seg;
-}
-
-}  // namespace
 
 ppohdem_status ppohdem_scene_add_object_program(ppohdem_scene* scene, const ppohdem_field* field, const char* name,
                                                 const double centroid[3], const ppohdem_motion_segment* segments,
