@@ -25,6 +25,10 @@ One time step of rank r (the step ends in collectives, so the slowest rank sets 
   S_sums     bytes of the exact sums' allreduce (20,728 B: 7 energies + 6 x 5 walls, 70 words)
   k          steps per list build (--steps-per-build)
 
+--merged-collectives models a proposed change instead of today's code: the max allreduce, the
+allgather and the sums' allreduce merged into one allreduce of the sums' words plus a few
+(collectives = ceil(log2 P) (L + S_sums / B)).
+
 Strong scaling: E(P) = c N / (P T(P)). Weak scaling (--weak: the CSV's beds hold the same
 particles per rank): E(P) = c n / T(P), n the particles per rank.
 Prints a markdown table per CSV.
@@ -74,7 +78,9 @@ def step_time(rows, p, a):
         if work + h + bl > compute + halo + build:
             compute, halo, build = work, h, bl
     collectives = 0.0
-    if p > 1:
+    if p > 1 and a.merged_collectives:
+        collectives = lg * (a.latency + SUMS_BYTES / a.bandwidth)
+    elif p > 1:
         collectives = lg * a.latency * 4 + (p - 1) * GATHER_BYTES / a.bandwidth
         if a.sums:
             collectives += lg * SUMS_BYTES / a.bandwidth
@@ -89,9 +95,10 @@ def main():
     ap.add_argument('--beta', type=float, default=0.12)
     ap.add_argument('--alpha', type=float, default=0.04)
     ap.add_argument('--latency', type=float, default=2.0e-6, help='per message [s]')
-    ap.add_argument('--bandwidth', type=float, default=12.5e9, help='[B/s]')
-    ap.add_argument('--steps-per-build', type=float, default=10.0)
+    ap.add_argument('--bandwidth', type=float, default=10.0e9, help='[B/s]')
+    ap.add_argument('--steps-per-build', type=float, default=60.0)
     ap.add_argument('--no-sums', dest='sums', action='store_false', help='energies untracked')
+    ap.add_argument('--merged-collectives', action='store_true', help='a proposed change: one allreduce a step')
     ap.add_argument('--here', type=int, default=0, help='the check: ranks share this many cores')
     ap.add_argument('--steps', type=int, default=0, help='the check: steps of the measured loop')
     ap.add_argument('--measured', default='', help='the check: P:SECONDS,... measured loop times')
@@ -100,9 +107,9 @@ def main():
         return check_here(a)
     for path in a.csv:
         by_p = read_ranks(path)
-        print('\n%s: c = %.3g s, beta = %.3g, alpha = %.3g, L = %.3g s, B = %.3g B/s, a build every %g steps%s'
+        print('\n%s: c = %.3g s, beta = %.3g, alpha = %.3g, L = %.3g s, B = %.3g B/s, a build every %g steps%s%s'
               % (path, a.c, a.beta, a.alpha, a.latency, a.bandwidth, a.steps_per_build,
-                 '' if a.sums else ', energies untracked'))
+                 '' if a.sums else ', energies untracked', ', merged collectives' if a.merged_collectives else ''))
         print('| ranks | particles | per rank | compute [ms] | halo [ms] | builds [ms] | collectives [ms] | step [ms] | '
               '%s efficiency |' % ('weak' if a.weak else 'strong'))
         print('|---|---|---|---|---|---|---|---|---|')
