@@ -179,6 +179,10 @@ struct FastState {
   /// side: the test is a coin toss for the branch predictor (docs/performance.md "Fewer
   /// mispredicted branches").
   std::vector<std::uint32_t> upper_first;
+  /// Per owned particle: 1 if a lower-id partner is a ghost (its pair is evaluated here too).
+  /// The kernels scan the lower-id slots for ghosts only then: most particles of a rank have
+  /// none (docs/performance.md "Projection to many nodes").
+  std::vector<std::uint8_t> lower_ghost;
   // --- friction only: the tangential history of each slot that has one; for a partner that is
   // owned too, only the lower-id side's slot has it (the other side's code stays kNoSpring).
   // A slot holds a 4-byte code (kNoSpring, or pool and index), the springs themselves live in

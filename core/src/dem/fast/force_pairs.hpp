@@ -160,7 +160,7 @@ inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::s
     // The lower-id owned partners evaluate their pairs (and keep this side's history); a
     // lower-id ghost's pair is evaluated here as well (its rank evaluates the other side).
     const std::uint32_t upper_first = s.upper_first[i];
-    if (pass.has_ghosts) {
+    if (pass.has_ghosts && s.lower_ghost[i] != 0) {
       for (std::uint32_t slot = s.first[i]; slot < upper_first; ++slot) {
         if (s.partner[slot] >= pass.n) list(slot, false);
       }

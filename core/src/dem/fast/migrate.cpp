@@ -42,6 +42,7 @@ void FastEngine::Impl::load_particles(const Particles& particles) {
   q.partner.clear();
   q.mirror.clear();
   q.upper_first.clear();
+  q.lower_ghost.clear();
   q.spring_of.clear();
   q.lower_codes_valid = false;
   q.spring_pools.clear();
