@@ -12,7 +12,7 @@
 
 #include "ppohdem/build_info.hpp"
 #include "ppohdem/error.hpp"
-#include "ppohdem/io/atomic_file.hpp"
+#include "ppohdem/io/block_file.hpp"
 #include "checkpoint_codec.hpp"
 
 namespace ppohdem::dem {
@@ -279,8 +279,8 @@ Checkpoint decode_checkpoint(const std::vector<std::uint8_t>& bytes, const std::
 
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint& checkpoint) {
   const std::vector<std::uint8_t> bytes = encode_checkpoint(checkpoint);
-  AtomicFileWriter writer(file, /*binary=*/true);
-  writer.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  BlockFileWriter writer(file);  // atomic, past the page cache (io/block_file.hpp)
+  writer.write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   writer.commit(/*sync_to_disk=*/true);
 }
 

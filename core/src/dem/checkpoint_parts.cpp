@@ -11,7 +11,7 @@
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/checkpoint.hpp"
 #include "ppohdem/error.hpp"
-#include "ppohdem/io/atomic_file.hpp"
+#include "ppohdem/io/block_file.hpp"
 
 namespace ppohdem::dem {
 namespace {
@@ -218,8 +218,8 @@ void write_checkpoint_parts(const fs::path& file, Checkpoint checkpoint, EngineS
   const std::string name = part_file_name(part.step, rank, ranks);
   const std::vector<std::uint8_t> bytes = encode_checkpoint_part(part);
   {
-    AtomicFileWriter writer(dir / name, /*binary=*/true);
-    writer.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    BlockFileWriter writer(dir / name);  // atomic, past the page cache (io/block_file.hpp)
+    writer.write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     writer.commit(/*sync_to_disk=*/true);
   }
   // Every part is on disk once rank 0 has every rank's table entry.
