@@ -189,21 +189,31 @@ std::uint32_t crc32_of(const std::uint8_t* data, std::size_t size) {
   return static_cast<std::uint32_t>(::crc32_z(::crc32_z(0L, Z_NULL, 0), data, size));
 }
 
+std::uint32_t crc32_continue(std::uint32_t crc, const std::uint8_t* data, std::size_t size) {
+  return static_cast<std::uint32_t>(::crc32_z(crc, data, size));
+}
+
 std::string checkpoint_build_name() {
   return std::string("ppohdem ") + build_info::kVersion + " (git " + build_info::kGitHash + ")";
 }
 
 namespace checkpoint_codec {
 
-std::vector<std::uint8_t> framed(const char* magic, std::uint32_t version, const std::vector<std::uint8_t>& payload) {
+std::vector<std::uint8_t> frame_header(const char* magic, std::uint32_t version, std::uint64_t payload_length) {
   Writer w;
   w.bytes.assign(magic, magic + 8);
   w.u32(version);
   const std::string build = checkpoint_build_name();
   w.u32(static_cast<std::uint32_t>(build.size()));
   w.bytes.insert(w.bytes.end(), build.begin(), build.end());
-  w.u64(payload.size());
+  w.u64(payload_length);
   w.u32(crc32_of(w.bytes.data(), w.bytes.size()));
+  return std::move(w.bytes);
+}
+
+std::vector<std::uint8_t> framed(const char* magic, std::uint32_t version, const std::vector<std::uint8_t>& payload) {
+  Writer w;
+  w.bytes = frame_header(magic, version, payload.size());
   w.bytes.insert(w.bytes.end(), payload.begin(), payload.end());
   w.u32(crc32_of(payload.data(), payload.size()));
   return std::move(w.bytes);

@@ -158,6 +158,8 @@ inline void get_contact(Reader& r, ContactHistoryRecord& h) {
 // ---- framing: header {magic, u32 version, u32 n + build, u64 payload length, u32 CRC},
 // payload, u32 CRC of the payload --------------------------------------------------------------
 
+/// The header of a file of `payload_length` payload bytes (this build's name), CRC included.
+std::vector<std::uint8_t> frame_header(const char* magic, std::uint32_t version, std::uint64_t payload_length);
 /// The file's bytes around `payload` (this build's name).
 std::vector<std::uint8_t> framed(const char* magic, std::uint32_t version, const std::vector<std::uint8_t>& payload);
 

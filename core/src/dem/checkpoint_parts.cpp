@@ -56,8 +56,28 @@ void sort_contacts(std::vector<ContactHistoryRecord>& contacts) {
 
 }  // namespace
 
-std::vector<std::uint8_t> encode_checkpoint_part(const CheckpointPart& part) {
+namespace {
+
+std::uint64_t part_payload_length(const CheckpointPart& part) {
+  return 8 + 4 + 4 + 8 + 8 + part.particles.size() * (8 + checkpoint_codec::kParticleBytes) + 8 +
+         part.contacts.size() * checkpoint_codec::kContactBytes + 8 + part.escaped_ids.size() * 8;
+}
+
+// The part's file, handed to `sink(bytes, size)` in pieces of about 1 MiB (a part of a large
+// state is never whole in memory); returns the payload's CRC-32.
+template <class Sink>
+std::uint32_t stream_part(const CheckpointPart& part, Sink&& sink) {
+  const std::vector<std::uint8_t> header =
+      checkpoint_codec::frame_header(kCheckpointPartMagic, kCheckpointFormatVersion, part_payload_length(part));
+  sink(header.data(), header.size());
+  std::uint32_t crc = crc32_of(nullptr, 0);
   Writer w;
+  auto pass_on = [&](bool always) {
+    if (!always && w.bytes.size() < (std::size_t{1} << 20)) return;
+    crc = crc32_continue(crc, w.bytes.data(), w.bytes.size());
+    sink(w.bytes.data(), w.bytes.size());
+    w.bytes.clear();
+  };
   w.i64(part.step);
   w.u32(part.rank);
   w.u32(part.ranks);
@@ -66,12 +86,27 @@ std::vector<std::uint8_t> encode_checkpoint_part(const CheckpointPart& part) {
   for (std::size_t i = 0; i < part.particles.size(); ++i) {
     w.u64(part.order.at(i));
     checkpoint_codec::put_particle(w, part.particles[i]);
+    pass_on(false);
   }
   w.u64(part.contacts.size());
-  for (const ContactHistoryRecord& c : part.contacts) checkpoint_codec::put_contact(w, c);
+  for (const ContactHistoryRecord& c : part.contacts) {
+    checkpoint_codec::put_contact(w, c);
+    pass_on(false);
+  }
   w.u64(part.escaped_ids.size());
   for (const std::int64_t id : part.escaped_ids) w.i64(id);
-  return checkpoint_codec::framed(kCheckpointPartMagic, kCheckpointFormatVersion, w.bytes);
+  pass_on(true);
+  w.u32(crc);
+  sink(w.bytes.data(), w.bytes.size());
+  return crc;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_checkpoint_part(const CheckpointPart& part) {
+  std::vector<std::uint8_t> bytes;
+  stream_part(part, [&](const std::uint8_t* data, std::size_t size) { bytes.insert(bytes.end(), data, data + size); });
+  return bytes;
 }
 
 CheckpointPart decode_checkpoint_part(const std::vector<std::uint8_t>& bytes, const std::string& source) {
@@ -216,10 +251,12 @@ void write_checkpoint_parts(const fs::path& file, Checkpoint checkpoint, EngineS
   part.contacts = std::move(share.state.contacts);
   part.escaped_ids = std::move(share.state.escaped_ids);
   const std::string name = part_file_name(part.step, rank, ranks);
-  const std::vector<std::uint8_t> bytes = encode_checkpoint_part(part);
+  std::uint32_t crc = 0;
   {
     BlockFileWriter writer(dir / name);  // atomic, past the page cache (io/block_file.hpp)
-    writer.write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    crc = stream_part(part, [&](const std::uint8_t* data, std::size_t size) {
+      writer.write(reinterpret_cast<const char*>(data), size);
+    });
     writer.commit(/*sync_to_disk=*/true);
   }
   // Every part is on disk once rank 0 has every rank's table entry.
@@ -227,7 +264,7 @@ void write_checkpoint_parts(const fs::path& file, Checkpoint checkpoint, EngineS
   mine.u64(part.particles.size());
   mine.u64(part.contacts.size());
   mine.u64(part.escaped_ids.size());
-  mine.bytes.insert(mine.bytes.end(), bytes.end() - 4, bytes.end());  // payload CRC-32
+  mine.u32(crc);
   const std::vector<Bytes> entries = comm.allgather(Bytes(mine.bytes.begin(), mine.bytes.end()));
   if (rank != 0) return;
   checkpoint.engine = std::move(share.state);  // the global fields, lists emptied above

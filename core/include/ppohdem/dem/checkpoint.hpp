@@ -143,5 +143,7 @@ void write_checkpoint_parts(const std::filesystem::path& file, Checkpoint checkp
 
 /// zlib's CRC-32 of `size` bytes.
 std::uint32_t crc32_of(const std::uint8_t* data, std::size_t size);
+/// The CRC-32 of the bytes whose CRC-32 is `crc` followed by these `size` bytes.
+std::uint32_t crc32_continue(std::uint32_t crc, const std::uint8_t* data, std::size_t size);
 
 }  // namespace ppohdem::dem
