@@ -21,8 +21,9 @@
 //       depend on the thread count; docs/performance.md)
 // Under `mpirun -n P` (P > 1) the fast engine decomposes the domain over the P ranks
 // (docs/dem.md "Domain decomposition"): the same files, byte for byte, as one rank (header
-// line aside), written by rank 0; checkpoints hold the whole system, so a run restarts at any
-// rank count. The reference engine runs on one rank only.
+// line aside), written by rank 0; checkpoints are written per rank (a manifest and one part per
+// rank, docs/formats.md "Checkpoints") and restart at any rank count. The reference engine runs
+// on one rank only.
 // (docs/reliability.md; a run that fails a check exits 1 with a diagnosis).
 #include <algorithm>
 #include <chrono>

@@ -8,7 +8,8 @@
 /// the run ends at step scene.steps.
 /// Checkpoints (checkpoint.hpp): with checkpoint_every = N > 0, <dir>/checkpoint.bin is
 ///   replaced atomically at every step that is a multiple of N and at the last step, after
-///   that step's outputs. A restart (RunOptions::restart) restores the engine, checks that the
+///   that step's outputs; with several ranks (comm) it is a manifest written after every
+///   rank's part (checkpoint.hpp "Parts"). A restart (RunOptions::restart) restores the engine, checks that the
 ///   objects are where the checkpoint saw them, and continues energy.csv, objects.csv and the
 ///   frame numbering, so a run to the same end step gives the same files (up to the header
 ///   line) as an uninterrupted one. Stale temp files of killed runs in <dir> are removed.
