@@ -338,6 +338,9 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
               read.seconds, setup_seconds, s.wall_seconds, s.gather_seconds, s.write_seconds,
               static_cast<double>(s.write_bytes) / 1e6,
               s.write_seconds > 0.0 ? static_cast<double>(s.write_bytes) / 1e6 / s.write_seconds : 0.0);
+  if (s.checkpoints > 0) {
+    std::printf("timing: %zu checkpoints in %.3f s (part of the steps' time)\n", s.checkpoints, s.checkpoint_seconds);
+  }
   if (load) {
     std::printf("load balance: %s, %ld re-cuts; particles per rank max/mean %.3f (equal bricks of the initial "
                 "box: %.3f); exchanges: %.2f messages per rank per step (max %.2f; as all-to-all exchanges: %.2f), %zu "

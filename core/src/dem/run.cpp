@@ -338,7 +338,10 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     if (options.checkpoint_every > 0 && (step % options.checkpoint_every == 0 || step == scene.steps)) {
       // The logs first: every file on disk then covers at least the checkpoint's steps.
       flush_logs();
+      const auto checkpoint_start = clock::now();
       write_checkpoint_of(out.dir / kCheckpointFile);  // collective: on every rank
+      summary.checkpoint_seconds += std::chrono::duration<double>(clock::now() - checkpoint_start).count();
+      ++summary.checkpoints;
     }
     if (options.at_step_boundary) options.at_step_boundary(step);
     const long done = step - first_step, total = scene.steps - first_step;
@@ -363,6 +366,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.inserted = insertion.inserted();
   summary.insert_failed = insertion.failed();
   summary.inserted_energy = insertion.input();
+  const auto gather_start = clock::now();  // the first particles() of the end gathers them
   const std::size_t particle_count = engine.particles().size();  // collective: on every rank
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
@@ -371,7 +375,6 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
         << " could not be inserted (insertions.csv)\n";
   }
   flush_logs();
-  const auto gather_start = clock::now();
   const Particles& final_particles = engine.particles();  // collective: on every rank
   const auto write_start = clock::now();
   summary.gather_seconds = std::chrono::duration<double>(write_start - gather_start).count();

@@ -38,6 +38,8 @@ struct RunSummary {
   double gather_seconds = 0.0;  ///< the final particles gathered to rank 0 [s]
   double write_seconds = 0.0;   ///< final.csv written (rank 0) [s]
   std::uintmax_t write_bytes = 0;  ///< size of final.csv (rank 0) [B]
+  std::size_t checkpoints = 0;        ///< checkpoints written by the time loop
+  double checkpoint_seconds = 0.0;    ///< their time (rank 0, part of wall_seconds) [s]
   Energies initial;
   Energies final;
   std::size_t escaped = 0;
