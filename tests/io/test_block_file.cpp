@@ -1,7 +1,7 @@
 // BlockFileWriter (ppohdem/io/block_file.hpp): the file holds exactly the bytes written, for
 // sizes on both sides of the O_DIRECT alignment (4 KiB) and of the 4 MiB block, written in
-// pieces of awkward sizes; on a file system with O_DIRECT (the build directory's, usually)
-// and on one without it (/dev/shm, tmpfs, when present); no temp file is left behind, and a
+// pieces of awkward sizes; in the build directory and in /dev/shm (tmpfs, which refuses O_DIRECT
+// before Linux 6.6: the buffered path there); no temp file is left behind, and a
 // writer destroyed without commit leaves no file and any earlier target untouched.
 #include <gtest/gtest.h>
 #include <unistd.h>

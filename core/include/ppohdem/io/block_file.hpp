@@ -7,8 +7,8 @@
 /// Why: on the development VM a buffered write of a fresh 100 MB file runs at the rate the
 /// guest obtains new page-cache pages (60-150 MB/s), while the same bytes written with
 /// O_DIRECT from one reused buffer reach the disk at several hundred MB/s
-/// (docs/performance.md "I/O: particle files"). File systems without O_DIRECT (tmpfs) get
-/// plain buffered writes; so does the unaligned tail of the file.
+/// (docs/performance.md "I/O: particle files"). File systems without O_DIRECT (tmpfs before
+/// Linux 6.6) get plain buffered writes; so does the unaligned tail of the file.
 #include <cstddef>
 #include <filesystem>
 
