@@ -44,28 +44,31 @@ std::vector<fs::path> directories() {
 TEST(BlockFileWriter, WritesExactlyTheBytesGiven) {
   const std::size_t mib = std::size_t{1} << 20;
   for (const fs::path& dir : directories()) {
-    fs::create_directories(dir);
-    for (const std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{4095}, std::size_t{4096},
-                                   std::size_t{4097}, 4 * mib - 1, 4 * mib, 4 * mib + 1, 9 * mib + 3}) {
-      SCOPED_TRACE(dir.string() + ", " + std::to_string(size) + " bytes");
-      const std::string data = pattern(size);
-      const fs::path file = dir / "out.bin";
-      {
-        ppohdem::BlockFileWriter w(file);
-        std::size_t at = 0, piece = 1;
-        while (at < size) {  // pieces of 1, 4, 16, ... bytes, up to 1 MiB + 7
-          const std::size_t n = std::min(size - at, piece);
-          w.write(data.data() + at, n);
-          at += n;
-          piece = std::min(piece * 4, mib + 7);
+    for (const bool bypass : {true, false}) {  // O_DIRECT if the file system takes it; buffered
+      fs::create_directories(dir);
+      for (const std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{4095}, std::size_t{4096},
+                                     std::size_t{4097}, 4 * mib - 1, 4 * mib, 4 * mib + 1, 9 * mib + 3}) {
+        SCOPED_TRACE(dir.string() + ", " + std::to_string(size) + " bytes, bypass " + std::to_string(bypass));
+        const std::string data = pattern(size);
+        const fs::path file = dir / "out.bin";
+        {
+          ppohdem::BlockFileWriter w(file, bypass);
+          if (!bypass) EXPECT_FALSE(w.direct());
+          std::size_t at = 0, piece = 1;
+          while (at < size) {  // pieces of 1, 4, 16, ... bytes, up to 1 MiB + 7
+            const std::size_t n = std::min(size - at, piece);
+            w.write(data.data() + at, n);
+            at += n;
+            piece = std::min(piece * 4, mib + 7);
+          }
+          w.commit(/*sync_to_disk=*/size == 4097);
         }
-        w.commit(/*sync_to_disk=*/size == 4097);
+        EXPECT_EQ(fs::file_size(file), size);
+        EXPECT_TRUE(contents(file) == data);
+        EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1) << "a temp file left";
       }
-      EXPECT_EQ(fs::file_size(file), size);
-      EXPECT_TRUE(contents(file) == data);
-      EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1) << "a temp file left";
+      fs::remove_all(dir);
     }
-    fs::remove_all(dir);
   }
 }
 

@@ -24,16 +24,18 @@ constexpr std::size_t kAlign = 4096;
 
 }  // namespace
 
-BlockFileWriter::BlockFileWriter(std::filesystem::path target) : target_(std::move(target)) {
+BlockFileWriter::BlockFileWriter(std::filesystem::path target, bool bypass_cache) : target_(std::move(target)) {
   const auto dir = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) {
     throw InputError(target_.string(), 0, "cannot write: directory '" + dir.string() + "' does not exist");
   }
   temp_ = atomic_temp_path(target_);
-  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_DIRECT, 0666);
+  if (bypass_cache) fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_DIRECT, 0666);
   direct_ = fd_ >= 0;
-  if (fd_ < 0 && errno == EINVAL) fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd_ < 0 && (!bypass_cache || errno == EINVAL)) {
+    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  }
   if (fd_ < 0) throw InputError(target_.string(), 0, "cannot write: unable to create a file in '" + dir.string() + "'");
   buffer_ = static_cast<char*>(std::aligned_alloc(kAlign, kBlock));
   if (buffer_ == nullptr) {

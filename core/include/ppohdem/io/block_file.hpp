@@ -16,8 +16,9 @@ namespace ppohdem {
 
 class BlockFileWriter {
  public:
-  /// Opens the temp file; throws InputError naming the target if it cannot.
-  explicit BlockFileWriter(std::filesystem::path target);
+  /// Opens the temp file; throws InputError naming the target if it cannot. With
+  /// bypass_cache false, plain buffered writes (the path of file systems without O_DIRECT).
+  explicit BlockFileWriter(std::filesystem::path target, bool bypass_cache = true);
   ~BlockFileWriter();
   BlockFileWriter(const BlockFileWriter&) = delete;
   BlockFileWriter& operator=(const BlockFileWriter&) = delete;
