@@ -263,7 +263,8 @@ TEST(CheckpointParts, AManifestHoldsNoParticles) {
 }
 
 // On disk, one rank (SerialComm): the part and the manifest, read back as the whole state; a
-// later checkpoint replaces the earlier one's part; missing and outside parts refused.
+// part of the next step without its manifest changes nothing; a later checkpoint replaces the
+// earlier one's part; missing and outside parts refused.
 TEST(CheckpointParts, FilesOnDiskReadBackAndReplaceTheirPredecessor) {
   const fs::path dir = fs::temp_directory_path() / ("ppohdem_parts_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -283,8 +284,22 @@ TEST(CheckpointParts, FilesOnDiskReadBackAndReplaceTheirPredecessor) {
   write_checkpoint_parts(dir / "checkpoint.bin", c, share_of(e), comm);
   EXPECT_TRUE(fs::exists(dir / "checkpoint.bin.parts" / "step_0000004200.rank_0_of_1.bin"));
   expect_same_state(read_checkpoint(dir / "checkpoint.bin").engine, e);
+  // A run killed after writing the next checkpoint's part, before its manifest: the manifest
+  // on disk still names the complete earlier checkpoint, which reads as before.
+  const EngineState earlier = e;
   e.step = 4300;
   e.particles[3].velocity.x() = -1.0;
+  {
+    CheckpointPart next;
+    next.step = e.step;
+    next.total = e.particles.size();
+    next.particles = e.particles;
+    for (std::size_t i = 0; i < e.particles.size(); ++i) next.order.push_back(i);
+    const std::vector<std::uint8_t> b = encode_checkpoint_part(next);
+    std::ofstream(dir / "checkpoint.bin.parts" / "step_0000004300.rank_0_of_1.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+  }
+  expect_same_state(read_checkpoint(dir / "checkpoint.bin").engine, earlier);
   write_checkpoint_parts(dir / "checkpoint.bin", c, share_of(e), comm);
   EXPECT_FALSE(fs::exists(dir / "checkpoint.bin.parts" / "step_0000004200.rank_0_of_1.bin"));
   const Checkpoint back = read_checkpoint(dir / "checkpoint.bin");
