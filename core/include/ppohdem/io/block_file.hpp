@@ -4,10 +4,9 @@
 /// the same promise as AtomicFileWriter (atomic_file.hpp): written to "<name>.tmp.<pid>.<n>",
 /// renamed over the target by commit(), removed if never committed.
 ///
-/// Why: on the development VM a buffered write of a fresh 100 MB file runs at the rate the
-/// guest obtains new page-cache pages (60-150 MB/s), while the same bytes written with
-/// O_DIRECT from one reused buffer reach the disk at several hundred MB/s
-/// (docs/performance.md "I/O: particle files"). File systems without O_DIRECT (tmpfs before
+/// Why: on the development VM buffered writes of a new large file are several times slower
+/// than the same bytes written with O_DIRECT from one reused buffer (docs/performance.md
+/// "I/O: particle files"). File systems without O_DIRECT (tmpfs before
 /// Linux 6.6) get plain buffered writes; so does the unaligned tail of the file.
 #include <cstddef>
 #include <filesystem>
