@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "ppohdem/dem/checkpoint.hpp"
@@ -287,6 +288,20 @@ TEST(CheckpointFormat, FileRoundTripLeavesNoTempFiles) {
   write_checkpoint(dir / "c.bin", sample());
   write_checkpoint(dir / "c.bin", sample());  // replaced atomically
   EXPECT_EQ(read_checkpoint(dir / "c.bin").engine.step, sample().engine.step);
+  // The file (streamed in 1 MiB pieces) holds exactly encode_checkpoint's bytes, also for a
+  // payload of several pieces (20,000 particles, 3 MB).
+  Checkpoint large = sample();
+  for (int i = 0; i < 20000; ++i) {
+    large.engine.particles.push_back(large.engine.particles[static_cast<std::size_t>(i % 3)]);
+    large.engine.particles.back().id = 10 + i;
+  }
+  for (const Checkpoint& c : {sample(), large}) {
+    write_checkpoint(dir / "c.bin", c);
+    std::ifstream in(dir / "c.bin", std::ios::binary);
+    const std::vector<std::uint8_t> file{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    EXPECT_GT(file.size(), c.engine.particles.size() * 140);  // 140 bytes a particle
+    EXPECT_TRUE(file == encode_checkpoint(c));
+  }
   std::size_t files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     ++files;

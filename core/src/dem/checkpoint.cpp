@@ -53,13 +53,22 @@ void encode_payload(Writer& w, const Checkpoint& c) {
   w.i64(e.step);
   w.f64(e.dt);
   w.u64(e.particles.size());
-  for (const Particle& p : e.particles) checkpoint_codec::put_particle(w, p);
+  for (const Particle& p : e.particles) {
+    checkpoint_codec::put_particle(w, p);
+    w.pass_on();
+  }
   w.u64(e.contacts.size());
-  for (const ContactHistoryRecord& r : e.contacts) checkpoint_codec::put_contact(w, r);
+  for (const ContactHistoryRecord& r : e.contacts) {
+    checkpoint_codec::put_contact(w, r);
+    w.pass_on();
+  }
   const Energies& a = e.accumulators;
   for (double v : {a.kinetic, a.rotational, a.gravitational, a.elastic, a.dissipated, a.boundary_work}) w.f64(v);
   w.u64(e.escaped_ids.size());
-  for (std::int64_t id : e.escaped_ids) w.i64(id);
+  for (std::int64_t id : e.escaped_ids) {
+    w.i64(id);
+    w.pass_on();
+  }
   w.u64(e.boundary_loads.size());
   for (const BoundaryLoad& l : e.boundary_loads) {
     w.vec(l.force);
@@ -81,9 +90,15 @@ void encode_payload(Writer& w, const Checkpoint& c) {
     w.u64(o.outside_grid);
   }
   w.u64(c.run.energy_rows.size());
-  for (const std::string& row : c.run.energy_rows) w.str(row);
+  for (const std::string& row : c.run.energy_rows) {
+    w.str(row);
+    w.pass_on();
+  }
   w.u64(c.run.object_rows.size());
-  for (const std::string& row : c.run.object_rows) w.str(row);
+  for (const std::string& row : c.run.object_rows) {
+    w.str(row);
+    w.pass_on();
+  }
   w.u64(c.run.frames);
   const InsertionRecord& in = c.insertion;
   w.u64(in.counters.size());
@@ -287,10 +302,30 @@ Checkpoint decode_checkpoint(const std::vector<std::uint8_t>& bytes, const std::
   return c;
 }
 
+// encode_checkpoint's bytes, streamed: the payload encoded once to count its length (the
+// header's), then again into the file with its CRC-32.
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint& checkpoint) {
-  const std::vector<std::uint8_t> bytes = encode_checkpoint(checkpoint);
+  std::uint64_t length = 0;
+  {
+    Writer counter;
+    counter.sink = [&length](const std::uint8_t*, std::size_t size) { length += size; };
+    encode_payload(counter, checkpoint);
+    counter.pass_on(true);
+  }
   BlockFileWriter writer(file);  // atomic, past the page cache (io/block_file.hpp)
-  writer.write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  const std::vector<std::uint8_t> header =
+      checkpoint_codec::frame_header(kCheckpointMagic, kCheckpointFormatVersion, length);
+  writer.write(reinterpret_cast<const char*>(header.data()), header.size());
+  std::uint32_t crc = crc32_of(nullptr, 0);
+  Writer w;
+  w.sink = [&](const std::uint8_t* data, std::size_t size) {
+    crc = crc32_continue(crc, data, size);
+    writer.write(reinterpret_cast<const char*>(data), size);
+  };
+  encode_payload(w, checkpoint);
+  w.pass_on(true);
+  w.u32(crc);
+  writer.write(reinterpret_cast<const char*>(w.bytes.data()), w.bytes.size());
   writer.commit(/*sync_to_disk=*/true);
 }
 

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,15 @@ class Writer {
     u64(s.size());
     bytes.insert(bytes.end(), s.begin(), s.end());
   }
+  /// With a sink, the bytes so far go to it once they reach 1 MiB (or always): a large file
+  /// is then streamed, never whole in memory.
+  void pass_on(bool always = false) {
+    if (!sink || (!always && bytes.size() < (std::size_t{1} << 20))) return;
+    sink(bytes.data(), bytes.size());
+    bytes.clear();
+  }
   std::vector<std::uint8_t> bytes;
+  std::function<void(const std::uint8_t*, std::size_t)> sink;
 };
 
 class Reader {
