@@ -161,6 +161,7 @@ class FastEngine final : public DemEngine {
   bool motion_finite() const override;
   std::vector<BoundaryLoad> boundary_loads() const override;
   EngineState save_state() const override;
+  EngineStateShare save_state_share() const override;
   void restore_state(const EngineState& state) override;
   /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): the whole state with
   /// the new particles appended is restored (a list build; collective with several ranks).
