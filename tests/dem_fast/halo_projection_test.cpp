@@ -128,7 +128,9 @@ TEST(HaloProjection, MatchesABruteForceCountOverEveryParticleAndRank) {
       EXPECT_GE(h.rank[r].peers, h.rank[r].messages_out);  // a rank sends to peers only
       ghosts += in[r];
     }
-    if (ranks > 1) EXPECT_GT(ghosts, 0u);  // the bed is not trivially split
+    if (ranks > 1) {
+      EXPECT_GT(ghosts, 0u);  // the bed is not trivially split
+    }
   }
 }
 

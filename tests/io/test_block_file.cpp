@@ -53,7 +53,9 @@ TEST(BlockFileWriter, WritesExactlyTheBytesGiven) {
         const fs::path file = dir / "out.bin";
         {
           ppohdem::BlockFileWriter w(file, bypass);
-          if (!bypass) EXPECT_FALSE(w.direct());
+          if (!bypass) {
+            EXPECT_FALSE(w.direct());
+          }
           std::size_t at = 0, piece = 1;
           while (at < size) {  // pieces of 1, 4, 16, ... bytes, up to 1 MiB + 7
             const std::size_t n = std::min(size - at, piece);

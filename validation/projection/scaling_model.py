@@ -22,7 +22,8 @@ One time step of rank r (the step ends in collectives, so the slowest rank sets 
   L, B       network latency per message [s] and bandwidth [B/s] (--latency, --bandwidth);
              messages are charged one after the other (no overlap: an upper bound)
   s_gather   bytes per rank of the per-step allgather (count and deepest contact: 4 + 59)
-  S_sums     bytes of the exact sums' allreduce (20,728 B: 7 energies + 6 x 5 walls, 70 words)
+  S_sums     bytes of the exact sums' allreduce (3,928 B: the 7 energy sums of 70 words; the
+             rates of a step, docs/dem.md "Energy book-keeping"; plus the 8-byte max)
   k          steps per list build (--steps-per-build)
 
 --merged-collectives models a proposed change instead of today's code: the max allreduce, the
@@ -48,7 +49,7 @@ from collections import defaultdict
 REFRESH_BYTES = 120      # per ghost per step (5 vectors of 3 doubles; ppohdem project prints it)
 CREATION_BYTES = 298     # per ghost at its creation (ppohdem project prints it)
 GATHER_BYTES = 4 + 59    # per rank per step: MPI_Allgather of the count, MPI_Allgatherv of the block
-SUMS_BYTES = 20728       # the exact sums' allreduce per step, plus the 8-byte max (mpi_byte_count.c)
+SUMS_BYTES = 3928        # the exact sums' allreduce per step (7 x 70 words), plus the 8-byte max
 
 
 def read_ranks(path):
@@ -92,7 +93,7 @@ def main():
     ap.add_argument('csv', nargs='+')
     ap.add_argument('--weak', action='store_true', help='the beds hold the same particles per rank')
     ap.add_argument('--c', type=float, required=True, help='compute per particle-step on one rank [s]')
-    ap.add_argument('--beta', type=float, default=0.12)
+    ap.add_argument('--beta', type=float, default=0.04)
     ap.add_argument('--alpha', type=float, default=0.04)
     ap.add_argument('--latency', type=float, default=2.0e-6, help='per message [s]')
     ap.add_argument('--bandwidth', type=float, default=10.0e9, help='[B/s]')

@@ -320,8 +320,10 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     engine.step();
     insert_at();
     warn_outside();
-    if (const auto diagnosis = diagnostics.check(engine)) stop(*diagnosis);
-    if (step % energy_every == 0 || step == scene.steps) {
+    const bool energy_row = step % energy_every == 0 || step == scene.steps;
+    const bool balance_now = energy_row || step % kEnergyCheckEvery == 0;
+    if (const auto diagnosis = diagnostics.check(engine, balance_now)) stop(*diagnosis);
+    if (energy_row) {
       energy.add(step, engine.time(), engine.energies());
       log_objects(step);
     }

@@ -64,7 +64,7 @@ std::string RunDiagnostics::time_step_note() const {
   return buf;
 }
 
-std::optional<std::string> RunDiagnostics::check(const DemEngine& engine) {
+std::optional<std::string> RunDiagnostics::check(const DemEngine& engine, bool balance) {
   // Screening without a copy of the particle state (engine.particles() plus the per-particle
   // scans every step were a large part of a fast-engine step: docs/performance.md "Run checks
   // without a copy of the state"):
@@ -75,10 +75,10 @@ std::optional<std::string> RunDiagnostics::check(const DemEngine& engine) {
   // - both engines test Boundary::has_escaped for every particle in their force pass and count
   //   the escapes, so the per-particle escape scan runs only when that count has grown (and at
   //   every step when a [checks] box is set: the engines do not know it).
-  // Without energy tracking the energies are not needed here: the engine's own screen
-  // (DemEngine::motion_finite; the fast engine then sums no energies every step).
+  // Between the balance checks the energies are not needed here: the engine's own screen
+  // (DemEngine::motion_finite; the fast engine sums the energies of the state only when asked).
   std::optional<Energies> energies;
-  if (setup_.energy_balance) {
+  if (setup_.energy_balance && balance) {
     energies = engine.energies();
     if (!std::isfinite(energies->kinetic + energies->rotational + energies->gravitational + energies->elastic)) {
       if (auto d = check_finite(engine)) return d;

@@ -1,10 +1,11 @@
 #pragma once
 /// \file run_diagnostics.hpp
 /// Checks run_scene makes after EVERY step, so that a run that goes wrong stops within a
-/// step or two with a diagnosis instead of writing NaNs (docs/reliability.md). The per-particle
-/// scans run only when a cheap screen (energy sums not finite, or DemEngine::motion_finite
-/// false when the energies are not tracked; the engine's escape count grown) says a particle
-/// is to be named: run_diagnostics.cpp. A failed check
+/// step or two with a diagnosis instead of writing NaNs (docs/reliability.md); the energy
+/// balance every kEnergyCheckEvery steps and at the energy rows (energy.csv). The per-particle
+/// scans run only when a cheap screen (DemEngine::motion_finite false, or the energy sums not
+/// finite where they are summed; the engine's escape count grown) says a particle is to be
+/// named: run_diagnostics.cpp. A failed check
 /// names the step, the particle id(s) and the likely cause; run_scene then writes
 /// failed_checkpoint.bin and throws RunFailure (`ppohdem simulate` exits with status 1).
 ///   non-finite   a position, velocity, angular velocity, force or torque is NaN or infinite
@@ -31,6 +32,12 @@
 #include "ppohdem/dem/simulation_setup.hpp"
 
 namespace ppohdem::dem {
+
+/// Steps between two checks of the energy balance [-]. Summing the energies of the state is a
+/// pass over every particle with seven exact sums; every 10 steps it costs a few per cent of a
+/// step's time, while an instability (growing by a factor per step) is still caught within
+/// tens of steps (docs/reliability.md "Runs that go wrong stop with a diagnosis").
+inline constexpr long kEnergyCheckEvery = 10;
 
 struct RunChecks {
   /// Largest accepted overlap / smaller radius [-], beyond the initial state's deepest. 0.1:
@@ -68,7 +75,9 @@ class RunDiagnostics {
   RunDiagnostics(const SimulationSetup& setup, const RunChecks& checks, const Energies& initial,
                  double initial_overlap = 0.0, std::optional<TimeStepLimit> limit = std::nullopt);
   /// Checks the engine's state after a step; returns the diagnosis of the first failed check.
-  std::optional<std::string> check(const DemEngine& engine);
+  /// `balance`: check the energy balance too (energies tracked), which sums the energies of the
+  /// state (run_scene: every kEnergyCheckEvery steps and at the energy rows).
+  std::optional<std::string> check(const DemEngine& engine, bool balance = true);
   /// The non-finite check alone (the state before the first step: forces of the initial
   /// evaluation, e.g. two particles at the same point).
   std::optional<std::string> check_finite(const DemEngine& engine) const;

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <tuple>
 #include <type_traits>
 #include <unordered_map>
@@ -189,16 +190,20 @@ struct FastEngine::Impl {
   bool skip_far_objects = true;  ///< FastOptions::skip_far_objects
   long steps = 0;
   long builds = 0;
-  double elastic = 0.0;
+  /// The cumulative energy terms, summed at every evaluation (add_step_sums) [J].
   double dissipated = 0.0;
   double boundary_work = 0.0;
   double power = 0.0;  ///< P(n) of the last evaluation [W]
-  /// SimulationSetup::energy_balance; false: the four accumulators above stay zero (the kernel
-  /// computes no energy terms) and energies() reports the contact terms as NaN.
+  /// After a restore, the checkpoint's elastic energy until the next evaluation (the particles'
+  /// records were not saved) [J].
+  std::optional<double> restored_elastic;
+  /// SimulationSetup::energy_balance; false: the kernel computes no energy terms, the totals
+  /// stay zero and energies() reports the contact terms as NaN.
   bool energy_balance = true;
+  /// energies() of the current state (collective with several ranks: every rank asks).
+  mutable std::optional<Energies> energies_cache;
   mutable std::vector<BoundaryLoad> loads;
-  /// `loads` is not yet the last evaluation's (lazy_sums(), or several ranks with the
-  /// energies untracked): boundary_loads() sums them.
+  /// `loads` is not yet the last evaluation's: boundary_loads() sums them.
   mutable bool loads_stale = false;
   std::size_t escaped = 0;  ///< whole system (not kept up to date when lazy_sums())
   /// Several ranks: every rank's close_kick screen was finite at the last evaluation.
@@ -214,18 +219,14 @@ struct FastEngine::Impl {
   std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
 
   bool distributed() const { return comm->size() > 1; }
-  /// One rank without energy tracking: no sum over the particles runs every step. The
-  /// kinetic, rotational and gravitational energies, the boundary loads and the escaped count
-  /// are summed when asked (the same terms in the same order, so the same bits), and the run
-  /// checks screen the motion with close_kick's screen (motion_finite). Why: a per-step sum is
-  /// a pass over every particle that nothing reads (docs/performance.md).
-  bool lazy_sums() const { return !energy_balance && !distributed(); }
+  /// One rank: the escaped count is counted when asked (several ranks gather it with every
+  /// evaluation's counts). On any rank count the energies and the boundary loads are summed
+  /// when asked, never in a step, and the run checks screen the motion with close_kick's screen
+  /// (motion_finite). Why: a per-step sum is a pass over every particle that nothing reads
+  /// (docs/performance.md "Energy book-keeping").
+  bool lazy_sums() const { return !distributed(); }
   /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
   bool kick_cached = false;
-  /// One rank: (kinetic, rotational, gravitational) energy of the state after the last step,
-  /// summed in the evaluation's pass (reduce_one_rank); invalid after a (re)load.
-  std::array<double, 3> motion_sums{};
-  bool motion_valid = false;
   mutable std::vector<EvaluationSums> thread_sums;  ///< sum_owned's partial sums, one per thread (reused)
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
@@ -330,9 +331,8 @@ struct FastEngine::Impl {
   /// rank: independent of the decomposition and of the cell order.
   void add_lost_energy();
 
-  /// A force evaluation and the sums over particles. `closing_kick` (a step): the second half
-  /// kick runs between the kernel and the sums, and with one rank the kinetic, rotational and
-  /// gravitational sums of the new state come out of the same pass (cached for energies()).
+  /// A force evaluation. `closing_kick` (a step): the second half kick follows the kernel (or
+  /// runs in its sum pass). Sums nothing over the particles; several ranks gather the counts.
   void evaluate_forces(double history_dt, bool closing_kick = false);
   /// s.reach for the evaluation at `time` [s] (step.cpp).
   void update_reach(double time);
@@ -358,14 +358,11 @@ struct FastEngine::Impl {
     }
   }
 
-  /// This rank's sums over its owned particles (the threads' partial sums merged): the
-  /// contact energy terms if `contact`, the motion terms of the terms records if `motion`
-  /// (written by close_kick), the boundary loads if `with_loads`.
-  EvaluationSums sum_owned(bool contact, bool motion, bool with_loads) const;
-
-  /// Kinetic, rotational and gravitational energy of the whole system from the state
-  /// (collective with several ranks).
-  std::array<double, 3> motion_energies() const;
+  /// This rank's sums over its owned particles (the threads' partial sums merged): the rates of
+  /// the terms records (dissipated, work, power) if `rates`, the energies of the state if
+  /// `state` (elastic from the records when tracked; kinetic, rotational, gravitational from
+  /// the particles), the boundary loads if `with_loads`.
+  EvaluationSums sum_owned(bool rates, bool state, bool with_loads) const;
 
   /// Owned particles that have crossed a boundary (one rank: all of them).
   std::size_t count_escaped() const;
@@ -375,14 +372,15 @@ struct FastEngine::Impl {
   /// (collective).
   void sum_loads() const;
 
-  /// The contact energy terms of one evaluation added to the accumulators.
-  void add_contact_sums(const std::array<double, 4>& sums, double history_dt);
+  /// The energies of the current state: the kinetic, rotational and gravitational energy from
+  /// the state and (tracked) the elastic energy from the particles' records, each an exact
+  /// sum rounded once, with the cumulative terms (collective with several ranks: one
+  /// allreduce).
+  Energies sum_energies() const;
 
-  /// The sums of an evaluation with the energies tracked, in ONE pass over the owned
-  /// particles (sum_owned), merged over the ranks by one allreduce: the contact energy terms,
-  /// the boundary loads and, after a closing kick, the kinetic, rotational and gravitational
-  /// energies (cached for energies()).
-  void add_evaluation_sums(double history_dt, bool motion);
+  /// Energies tracked: the rates of one evaluation (dissipated, boundary work and power: exact
+  /// sums over the owned particles, merged over the ranks) added to the cumulative terms.
+  void add_step_sums(double history_dt);
 
   /// The second half kick of every owned particle (close_kick, fast_state.hpp) unless the
   /// kernel's sum pass applied it; the next step's first half kick reuses it.

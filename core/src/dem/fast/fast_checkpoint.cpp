@@ -162,7 +162,6 @@ void FastEngine::restore_state(const EngineState& state) {
   }
   m.load_particles(state.particles);
   m.steps = state.step;
-  m.elastic = state.accumulators.elastic;
   m.dissipated = state.accumulators.dissipated;
   m.boundary_work = state.accumulators.boundary_work;
   m.loads = state.boundary_loads;
@@ -227,6 +226,8 @@ void FastEngine::restore_state(const EngineState& state) {
   for (const BoundaryRecord& r : s.records) ++s.record_first[r.particle + 1];
   for (std::size_t i = 0; i < s.owned; ++i) s.record_first[i + 1] += s.record_first[i];
   m.out_valid = false;
+  m.energies_cache.reset();
+  m.restored_elastic = state.accumulators.elastic;  // the particles' records start at zero
 }
 
 }  // namespace ppohdem::dem::fast

@@ -138,19 +138,9 @@ const Particles& FastEngine::particles() const {
 }
 
 Energies FastEngine::energies() const {
-  const Impl& m = *impl_;
-  // The reference's terms, summed exactly and rounded once (exact_sum.hpp): the same bits.
-  const std::array<double, 3> sums = m.motion_valid ? m.motion_sums  // summed by the last step's pass
-                                                    : m.motion_energies();
-  Energies e;
-  e.kinetic = sums[0];
-  e.rotational = sums[1];
-  e.gravitational = sums[2];
-  e.elastic = m.elastic;
-  e.dissipated = m.dissipated;
-  e.boundary_work = m.boundary_work;
-  if (!m.energy_balance) e.elastic = e.dissipated = e.boundary_work = std::numeric_limits<double>::quiet_NaN();
-  return e;
+  // The reference's terms, summed exactly and rounded once (exact_sum.hpp): the same bits
+  // for the motion terms and the loads.
+  return impl_->sum_energies();
 }
 
 ContactCounts FastEngine::contact_counts() const {
@@ -171,7 +161,7 @@ bool FastEngine::motion_finite() const {
   const Impl& m = *impl_;
   // The screen of the last closing kick (after a (re)load there is none yet: the energies'),
   // with several ranks every rank's, gathered with the evaluation's counts.
-  if (!m.energy_balance && m.kick_cached) return m.distributed() ? m.screens_finite : std::isfinite(m.s.screen);
+  if (m.kick_cached) return m.distributed() ? m.screens_finite : std::isfinite(m.s.screen);
   return DemEngine::motion_finite();
 }
 
@@ -187,7 +177,7 @@ const ThreadSpeeds& FastEngine::thread_speeds() const { return impl_->s.thread_s
 
 std::size_t FastEngine::memory_bytes() const {
   const FastState& s = impl_->s;
-  std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror) + bytes(s.upper_first);
+  std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror) + bytes(s.upper_first) + bytes(s.lower_ghost);
   for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
   for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
   pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes.x) + bytes(impl_->search_probes.y) + bytes(impl_->search_probes.z) +

@@ -151,20 +151,15 @@ struct FastState {
   /// moves, it is not a plane wall, or it is a fixed wall within R + skin at the build); bits
   /// exist for the first 32 boundaries, the others are always evaluated. Owned particles only.
   std::vector<std::uint32_t> near_boundaries;
-  /// Per-particle energy terms, one 64-byte record each (one cache line): the contact terms of
-  /// the last evaluation (they stay zero when the energies are not tracked), and (one rank, after a step's closing kick) the particle's kinetic,
-  /// rotational and gravitational energy. The one-rank sums visit them in construction order,
-  /// a random order in storage, so one line per particle instead of one per term or array
-  /// (docs/performance.md "Sums from one line per particle").
-  struct alignas(64) ParticleTerms {
-    double elastic = 0.0;        ///< energy stored in its contacts [J]
-    double dissipated = 0.0;     ///< dissipated this step [J]
-    double work = 0.0;           ///< boundary work this step (dashpot share) [J]
-    double power = 0.0;          ///< boundary power (F - F_d) . v_s [W]
-    double kinetic = 0.0;        ///< m |v|^2 / 2 [J]
-    double rotational = 0.0;     ///< I |w|^2 / 2 [J]
-    double gravitational = 0.0;  ///< -m g . x [J]
-    double unused = 0.0;         ///< (fills the line; packed like the rest)
+  /// Per-particle energy terms of the last evaluation (energies tracked; zeros otherwise), one
+  /// 32-byte record each. A step sums the three rates (dissipated, work, power: zero for most
+  /// particles, which an exact sum skips); the elastic energy is summed only when the energies
+  /// are asked (docs/dem.md "Energy book-keeping").
+  struct alignas(32) ParticleTerms {
+    double elastic = 0.0;     ///< energy stored in its contacts [J]
+    double dissipated = 0.0;  ///< dissipated this step [J]
+    double work = 0.0;        ///< boundary work this step (dashpot share) [J]
+    double power = 0.0;       ///< boundary power (F - F_d) . v_s [W]
     using packed_as_bytes = void;  ///< pack.hpp: copied as its bytes (no padding)
   };
   std::vector<ParticleTerms> terms;
@@ -184,6 +179,10 @@ struct FastState {
   /// side: the test is a coin toss for the branch predictor (docs/performance.md "Fewer
   /// mispredicted branches").
   std::vector<std::uint32_t> upper_first;
+  /// Per owned particle: 1 if a lower-id partner is a ghost (its pair is evaluated here too).
+  /// The kernels scan the lower-id slots for ghosts only then: most particles of a rank have
+  /// none (docs/performance.md "Projection to many nodes").
+  std::vector<std::uint8_t> lower_ghost;
   // --- friction only: the tangential history of each slot that has one; for a partner that is
   // owned too, only the lower-id side's slot has it (the other side's code stays kNoSpring).
   // A slot holds a 4-byte code (kNoSpring, or pool and index), the springs themselves live in
@@ -269,10 +268,6 @@ struct FastState {
   /// [contact] rolling is on: contacts add a rolling torque besides r x F (rolling_resistance.hpp)
   bool rolling = false;
   bool kick_closed = false;
-  /// close_kick writes each particle's motion energy terms (kinetic, rotational,
-  /// gravitational) for the per-step sums; false when nothing sums them every step (one rank,
-  /// energy_balance = false: energies() sums them when asked, fast_engine.cpp).
-  bool motion_terms = true;
   /// The sum of close_kick's screens over the owned particles at the last closing kick.
   double screen = 0.0;
   // --- results of the last evaluation ---
@@ -485,25 +480,16 @@ inline std::array<double, 3> motion_terms(const FastState& s, std::size_t k) {
 }
 
 /// The second half kick of particle i, v(n+1) = v(n+1/2) + a(n+1) dt/2 with a from f, t: the
-/// kick is kept in pv, pw for the next step's first half kick (FastEngine::Impl::step), and
-/// the particle's motion energy terms of the new state go to its terms record (summed in
-/// construction order with the contact terms: one line per particle) unless
-/// s.motion_terms is off. Returns |v|^2 + |w|^2 of the new state [m^2/s^2, 1/s^2]: summed
-/// over the particles, a screen that is not finite as soon as one component is not (the run
-/// checks' screen when the energies are not summed every step).
+/// kick is kept in pv, pw for the next step's first half kick (FastEngine::Impl::step).
+/// Returns |v|^2 + |w|^2 of the new state [m^2/s^2, 1/s^2]: summed over the particles, a
+/// screen that is not finite as soon as one component is not (the run checks' screen between
+/// the energy rows).
 inline double close_kick(FastState& s, std::size_t i) {
   const double half = 0.5 * s.dt;
   s.pv[i] = half * (s.f[i] / s.mass[i] + s.gravity);
   s.pw[i] = half * s.t[i] / s.inertia[i];
   s.v[i] += s.pv[i];
   s.w[i] += s.pw[i];
-  if (s.motion_terms) {
-    const std::array<double, 3> motion = motion_terms(s, i);
-    FastState::ParticleTerms& terms = s.terms[i];
-    terms.kinetic = motion[0];
-    terms.rotational = motion[1];
-    terms.gravitational = motion[2];
-  }
   return s.v[i].squaredNorm() + s.w[i].squaredNorm();
 }
 

@@ -160,7 +160,7 @@ inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::s
     // The lower-id owned partners evaluate their pairs (and keep this side's history); a
     // lower-id ghost's pair is evaluated here as well (its rank evaluates the other side).
     const std::uint32_t upper_first = s.upper_first[i];
-    if (pass.has_ghosts) {
+    if (pass.has_ghosts && s.lower_ghost[i] != 0) {
       for (std::uint32_t slot = s.first[i]; slot < upper_first; ++slot) {
         if (s.partner[slot] >= pass.n) list(slot, false);
       }
@@ -180,6 +180,14 @@ inline void book_chunk(const K& kernel, RangePass& pass, std::size_t chunk, std:
                        const PairEntry* entries, const std::uint32_t* entries_of) {
   FastState& s = pass.s;
   for (std::size_t i = chunk; i < chunk_end; ++i) {
+    if (entries_of[i - chunk] == entries_of[i + 1 - chunk] && pass.boundaries <= 32 &&
+        (s.near_boundaries[i] & pass.near_mask) == 0) {
+      // Nothing touches it (a particle in flight): zero sums, only its energy record to close
+      // (the same bits as the full path; docs/performance.md "Energy book-keeping").
+      if constexpr (K::kEnergy) s.terms[i] = FastState::ParticleTerms{};
+      if constexpr (K::kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(pass.out.records.size());
+      continue;
+    }
     ParticleSums sums;
     sums.force = s.f[i];
     sums.torque = s.t[i];

@@ -75,8 +75,18 @@ inline void sum_pass(FastState& s, std::size_t ranges, std::size_t n, bool has_g
         Vec3 force = s.f[i];
         Vec3 torque = s.t[i];
         const std::uint32_t first = s.first[i];
-        for (std::uint32_t slot = s.upper_first[i]; slot-- > first;) {
-          if (has_ghosts && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
+        std::uint32_t lower_end = s.upper_first[i];
+        const bool ghost_partners = has_ghosts && s.lower_ghost[i] != 0;
+        if (!ghost_partners) {
+          // No lower-id partner touches it (a particle in flight): one load and OR a slot
+          // instead of a result's loads and adds (docs/performance.md "Energy book-keeping").
+          static_assert(kNoSpring == 0u, "the codes OR to kNoSpring only if each is kNoSpring");
+          std::uint32_t touching = 0;
+          for (std::uint32_t slot = first; slot < lower_end; ++slot) touching |= s.lower_code[slot];
+          if (touching == kNoSpring) lower_end = first;
+        }
+        for (std::uint32_t slot = lower_end; slot-- > first;) {
+          if (ghost_partners && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
             const PairResult& r = result_or_zero(s, s.spring_of[slot]);
             force += r.force;
             torque += r.torque_i;

@@ -7,7 +7,8 @@ namespace ppohdem::dem::fast {
 void FastEngine::Impl::load_particles(const Particles& particles) {
   auto& q = s;
   kick_cached = false;
-  motion_valid = false;
+  energies_cache.reset();
+  restored_elastic.reset();
   for_each_particle_array(q, [](auto& a) { a.clear(); });
   total = particles.size();
   r_max = 0.0;
@@ -41,6 +42,7 @@ void FastEngine::Impl::load_particles(const Particles& particles) {
   q.partner.clear();
   q.mirror.clear();
   q.upper_first.clear();
+  q.lower_ghost.clear();
   q.spring_of.clear();
   q.lower_codes_valid = false;
   q.spring_pools.clear();

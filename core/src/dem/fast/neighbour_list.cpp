@@ -54,6 +54,7 @@ void FastEngine::Impl::search_neighbours(const CellOrder* sorted) {
     s.partner.clear();
     s.mirror.clear();
     s.upper_first.clear();
+    s.lower_ghost.clear();
     return;
   }
   std::vector<std::uint32_t> upper_first(n);
@@ -173,6 +174,13 @@ void FastEngine::Impl::search_neighbours(const CellOrder* sorted) {
   s.first.swap(first);
   s.partner.swap(partner);
   s.upper_first.swap(upper_first);
+  s.lower_ghost.assign(n, 0);
+  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t slot = s.first[i]; slot < s.upper_first[i]; ++slot) {
+      if (s.partner[slot] >= n) s.lower_ghost[i] = 1;
+    }
+  }
   link_mirrors();
 }
 

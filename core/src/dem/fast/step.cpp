@@ -1,5 +1,5 @@
 // One time step of the fast engine: velocity Verlet (reference_engine.cpp has the formulas),
-// list builds when a particle has moved half the skin, the force evaluation and its sums.
+// list builds when a particle has moved half the skin, the force evaluation.
 #include "engine_impl.hpp"
 
 namespace ppohdem::dem::fast {
@@ -15,28 +15,22 @@ void FastEngine::Impl::update_reach(double time) {
 void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
   s.closing_kick = closing_kick;
   s.kick_closed = false;
-  s.motion_terms = !lazy_sums();
   const double time = static_cast<double>(steps) * s.dt;
   update_reach(time);
   kernel->evaluate(s, time, history_dt);
-  motion_valid = false;
+  energies_cache.reset();
+  restored_elastic.reset();
   if (closing_kick) close_step();
-  if (lazy_sums()) {  // energies(), boundary_loads() and escaped_count() sum when asked
-    loads_stale = true;
-    out_valid = false;
-    return;
-  }
-  if (!distributed()) {
-    escaped = count_escaped();
-    if (energy_balance) add_evaluation_sums(history_dt, closing_kick);
-    out_valid = false;
-    return;
-  }
-  // What the run needs from every rank besides the sums, in ONE allgather of a few bytes per
-  // rank: the counts, the deepest contact and the screen of the motion. With the energies
-  // tracked the energy terms and the loads are exact sums merged by one allreduce of fixed
-  // size (add_evaluation_sums), O(1) per rank whatever N; untracked, the loads are summed when
-  // asked (sum_loads).
+  // The energies of the state, boundary_loads() and (one rank) escaped_count() sum when
+  // asked; the energies' rates every evaluation.
+  if (energy_balance) add_step_sums(history_dt);
+  loads_stale = true;
+  out_valid = false;
+  if (lazy_sums()) return;
+  // What the run needs from every rank, in ONE allgather of a few bytes per rank: the counts,
+  // the deepest contact and the screen of the motion. The energies and the loads are exact
+  // sums merged by one allreduce of fixed size when asked (sum_energies, sum_loads), O(1) per
+  // rank whatever N.
   {
     Bytes mine;
     Packer pk(mine);
@@ -76,12 +70,6 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
       }
     }
   }
-  out_valid = false;
-  if (!energy_balance) {  // energies() and boundary_loads() sum when asked
-    loads_stale = true;
-    return;
-  }
-  add_evaluation_sums(history_dt, closing_kick);
 }
 
 void FastEngine::Impl::close_step() {
