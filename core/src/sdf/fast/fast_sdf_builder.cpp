@@ -10,6 +10,8 @@
 #include <limits>
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <optional>
 
 #include "ppohdem/error.hpp"
 #include "ppohdem/sdf/fast/brick_distance.hpp"
@@ -46,6 +48,37 @@ void check_inputs(const TriangleMesh& mesh, const GridSpec& grid) {
   if (columns >= (std::size_t{1} << 32)) throw InputError(who + ": more than 2^32 grid columns (nx * ny)");
 }
 
+// The tree and the column crossings are independent: with threads, the crossings are one task
+// and the tree's large subtrees others (the serial setup weighs most at small grids:
+// docs/performance.md "The whole voxelize process"). Both are the same as built serially.
+void build_tree_and_sign(const TriangleMesh& mesh, const GridSpec& grid, double coordinate_scale, bool oriented_boxes,
+                         int threads, std::optional<TriangleTree>& tree, std::optional<ColumnSign>& sign) {
+#if defined(PPOHDEM_WITH_OPENMP)
+  std::exception_ptr sign_error, tree_error;  // an exception may not leave a task
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
+#pragma omp single
+  {
+#pragma omp task default(shared)
+    try {
+      sign.emplace(mesh, grid);
+    } catch (...) {
+      sign_error = std::current_exception();
+    }
+    try {
+      tree.emplace(mesh, coordinate_scale, oriented_boxes);
+    } catch (...) {
+      tree_error = std::current_exception();
+    }
+  }
+  if (tree_error) std::rethrow_exception(tree_error);
+  if (sign_error) std::rethrow_exception(sign_error);
+#else
+  (void)threads;
+  tree.emplace(mesh, coordinate_scale, oriented_boxes);
+  sign.emplace(mesh, grid);
+#endif
+}
+
 }  // namespace
 
 SlabRange slab_of_rank(int nz, int rank, int ranks) {
@@ -78,8 +111,12 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
   // Oriented boxes pay off when every node makes a tree query (exact mode), not for the few
   // brick-centre queries of band mode, where fitting them costs more than they save
   // (docs/performance.md "How the fast builder works"). The field is the same either way.
-  const fast::TriangleTree tree(mesh, coordinate_scale, /*oriented_boxes=*/!band_mode);
-  const fast::ColumnSign sign(mesh, grid);
+  std::optional<fast::TriangleTree> tree_storage;
+  std::optional<fast::ColumnSign> sign_storage;
+  build_tree_and_sign(mesh, grid, coordinate_scale, /*oriented_boxes=*/!band_mode, options_.threads, tree_storage,
+                      sign_storage);
+  const fast::TriangleTree& tree = *tree_storage;
+  const fast::ColumnSign& sign = *sign_storage;
   const double band = band_mode ? options_.band_cells * grid.spacing.maxCoeff() : std::numeric_limits<double>::infinity();
   const fast::BrickDistance bricks(tree, grid, band, options_.shared_candidates);
 

@@ -87,6 +87,8 @@ class TriangleTree {
   /// `oriented_boxes`: fit oriented boxes to the lower levels (fewer boxes opened per query, a
   /// dearer build: worth it when every node of a grid is queried, not in band mode);
   /// without, the query measures the axis-aligned boxes. The results are the same either way.
+  /// Constructed inside an OpenMP parallel region (by one thread), the large subtrees are built
+  /// as tasks; the tree is the same node for node.
   explicit TriangleTree(const TriangleMesh& mesh, double coordinate_scale = 0.0, bool oriented_boxes = true);
 
   /// A BVH node, depth-first order (the root is 0).
@@ -168,11 +170,13 @@ class TriangleTree {
 
  private:
   struct BuildInput;
-  std::uint32_t build(BuildInput& in, std::uint32_t begin, std::uint32_t end, int depth);
+  struct BuildOutput;
+  std::uint32_t build(BuildInput& in, BuildOutput& out, std::uint32_t begin, std::uint32_t end, int depth);
+  void append_subtree(BuildOutput& out, const BuildOutput& subtree) const;
   static double box_squared_distance(const double lo[3], const double hi[3], const Vec3& p);
 
   void fit_oriented_box(const std::vector<Triangle>& input, const std::vector<std::uint32_t>& order,
-                        std::uint32_t begin, std::uint32_t end, std::uint32_t index);
+                        std::uint32_t begin, std::uint32_t end, std::uint32_t index, BuildOutput& out) const;
 
   std::vector<Node> nodes_;
   std::vector<OrientedNode> oriented_;  ///< parallel to nodes_ (if oriented)
