@@ -9,6 +9,8 @@
 # The load average before and after is printed: the machine may be shared.
 # Usage: ci/bench-sdf-process.sh [build-dir]
 #   env: SIZES="128" MESHES="dragon_100k" ROUNDS=3 THREADS="1 2"
+#        BASELINE=/path/to/an/older/ppohdem: also timed in every round (2 threads), for a
+#        before/after comparison under the same load.
 #   (a 256^3 round costs about 90 s of CGAL on 2 threads.)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,6 +19,7 @@ SIZES=${SIZES:-128}
 MESHES=${MESHES:-dragon_100k}
 ROUNDS=${ROUNDS:-3}
 THREADS=${THREADS:-"1 2"}
+BASELINE=${BASELINE:-}
 OUT=$BUILD/bench-sdf-process
 mkdir -p "$OUT"
 load() { cut -d' ' -f1-3 /proc/loadavg; }
@@ -52,6 +55,11 @@ for mesh in $MESHES; do
           --out "$OUT/ours_${t}t.vtk")
         times[ours$t]="${times[ours$t]:-} $s"
       done
+      if [ -n "$BASELINE" ]; then
+        s=$(wall "$BASELINE" voxelize --mesh "$M" --cells "$n" "$n" "$n" --box "${BOX[@]}" --threads 2 --quiet \
+          --out "$OUT/baseline.vtk")
+        times[baseline]="${times[baseline]:-} $s"
+      fi
       s=$(wall "$BENCH" run --method cgal --threads 2 --mesh "$M" --n "$n" --out "$OUT/cgal.f64")
       times[cgal]="${times[cgal]:-} $s"
       echo "  round $round: ours ${THREADS// /,} threads:$(for t in $THREADS; do printf ' %s' "$(best <<<"${times[ours$t]}" )"; done)" \
@@ -66,7 +74,11 @@ for mesh in $MESHES; do
       "$(for t in $THREADS; do printf '%9s ' "$(best <<<"${times[ours$t]}")"; done)" "$cgal" \
       "$(for t in $THREADS; do printf '%9s ' "$(awk -v c="$cgal" -v o="$(best <<<"${times[ours$t]}")" 'BEGIN { printf "%.1fx", c / o }')"; done)" \
       "$max_err" "$flips"
-    rm -f "$OUT"/ours_*t.vtk "$OUT/cgal.f64"
+    if [ -n "$BASELINE" ]; then
+      base=$(best <<<"${times[baseline]}")
+      echo "  baseline $BASELINE, 2 threads: $base s ($(awk -v c="$cgal" -v o="$base" 'BEGIN { printf "%.1fx", c / o }'))"
+    fi
+    rm -f "$OUT"/ours_*t.vtk "$OUT/cgal.f64" "$OUT/baseline.vtk"
     unset times
   done
 done
