@@ -186,22 +186,20 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bo
   oriented_ = std::move(out.oriented);
   // The loops below as tasks too (taskloop: serial outside a parallel region).
   triangles_.resize(n);
-  const auto triangle_count = static_cast<std::int64_t>(n);
 #if defined(PPOHDEM_WITH_OPENMP)
 #pragma omp taskloop grainsize(8192) default(shared)
 #endif
-  for (std::int64_t s = 0; s < triangle_count; ++s) {
-    const std::uint32_t t = in.order[static_cast<std::size_t>(s)];
-    triangles_[static_cast<std::size_t>(s)] = prepare_triangle(mesh.triangles[t], t);
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t t = in.order[s];
+    triangles_[s] = prepare_triangle(mesh.triangles[t], t);
   }
   if (!oriented_boxes_) return;
   pairs_.resize(nodes_.size());
-  const auto node_count = static_cast<std::int64_t>(nodes_.size());
+  const std::size_t node_count = nodes_.size();
 #if defined(PPOHDEM_WITH_OPENMP)
 #pragma omp taskloop grainsize(8192) default(shared)
 #endif
-  for (std::int64_t node = 0; node < node_count; ++node) {
-    const auto i = static_cast<std::size_t>(node);
+  for (std::size_t i = 0; i < node_count; ++i) {
     if (nodes_[i].count > 0) continue;
     const OrientedNode* child[2] = {&oriented_[i + 1], &oriented_[nodes_[i].first]};
     for (int c = 0; c < 2; ++c) {
