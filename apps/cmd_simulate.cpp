@@ -21,8 +21,9 @@
 //       depend on the thread count; docs/performance.md)
 // Under `mpirun -n P` (P > 1) the fast engine decomposes the domain over the P ranks
 // (docs/dem.md "Domain decomposition"): the same files, byte for byte, as one rank (header
-// line aside), written by rank 0; checkpoints hold the whole system, so a run restarts at any
-// rank count. The reference engine runs on one rank only.
+// line aside), written by rank 0; checkpoints are written per rank (a manifest and one part per
+// rank, docs/formats.md "Checkpoints") and restart at any rank count. The reference engine runs
+// on one rank only.
 // (docs/reliability.md; a run that fails a check exits 1 with a diagnosis).
 #include <algorithm>
 #include <chrono>
@@ -337,13 +338,16 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
               read.seconds, setup_seconds, s.wall_seconds, s.gather_seconds, s.write_seconds,
               static_cast<double>(s.write_bytes) / 1e6,
               s.write_seconds > 0.0 ? static_cast<double>(s.write_bytes) / 1e6 / s.write_seconds : 0.0);
+  if (s.checkpoints > 0) {
+    std::printf("timing: %zu checkpoints in %.3f s (part of the steps' time)\n", s.checkpoints, s.checkpoint_seconds);
+  }
   if (load) {
     std::printf("load balance: %s, %ld re-cuts; particles per rank max/mean %.3f (equal bricks of the initial "
                 "box: %.3f); exchanges: %.2f messages per rank per step (max %.2f; as all-to-all exchanges: %.2f), %zu "
-                "peers on rank 0, %ld global migrations\n",
+                "peers on rank 0, %ld global migrations; ghosts per rank %.1f (max %.0f)\n",
                 scene.parallel.balance ? "rcb" : "off", load->recuts, load->max_over_mean,
                 load->equal_bricks_max_over_mean, messages_mean, messages_max, all_to_all, load->peers,
-                load->global_exchanges);
+                load->global_exchanges, load->ghosts_mean, load->ghosts_max);
   }
   if (alternation) alternation->report(particle_count);
   if (phases) phases->report(particle_count);

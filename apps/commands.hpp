@@ -10,6 +10,7 @@ void register_mesh_info(CLI::App& app);
 void register_voxelize(CLI::App& app, const ppohdem::Comm& comm);
 void register_simulate(CLI::App& app, const ppohdem::Comm& comm);
 void register_validate(CLI::App& app);
+void register_project(CLI::App& app);
 
 /// Thrown by a command that ends with a given exit status (not an error message).
 struct ExitStatus {

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   ppohdem::app::register_voxelize(app, comm_environment.world());
   ppohdem::app::register_simulate(app, comm_environment.world());
   ppohdem::app::register_validate(app);
+  ppohdem::app::register_project(app);
   // Under mpirun an error may reach some ranks only (e.g. rank 0 cannot write a file): end all
   // ranks then (MPI_Abort), rather than leave the others waiting in a collective.
   const ppohdem::Comm& world = comm_environment.world();

@@ -26,13 +26,14 @@ if [ -n "$RUNS" ] && ! [[ "$RUNS" =~ ^[1-9][0-9]*$ ]]; then
   echo "fuzz: RUNS must be a positive whole number of executions, got '$RUNS'" >&2; exit 2
 fi
 ALL_TARGETS=(stl_ascii stl_binary voxelizer_input update_params_input vtk distance_dat scene_toml particle_csv
-             checkpoint)
+             checkpoint checkpoint_part)
 TARGETS=("$@")
 if [ "${#TARGETS[@]}" -eq 0 ]; then TARGETS=("${ALL_TARGETS[@]}"); fi
 
 # Longest input per target: a few times the largest seed, small enough for fast mutation.
 declare -A MAX_LEN=([stl_ascii]=8192 [stl_binary]=4096 [voxelizer_input]=1024 [update_params_input]=1024
-                    [vtk]=4096 [distance_dat]=4096 [scene_toml]=4096 [particle_csv]=4096 [checkpoint]=4096)
+                    [vtk]=4096 [distance_dat]=4096 [scene_toml]=4096 [particle_csv]=4096 [checkpoint]=4096
+                    [checkpoint_part]=4096)
 declare -A DICT=([stl_ascii]=stl_ascii [vtk]=vtk [voxelizer_input]=legacy_inputs
                  [update_params_input]=legacy_inputs [distance_dat]=distance_dat
                  [scene_toml]=scene_toml [particle_csv]=particle_csv)

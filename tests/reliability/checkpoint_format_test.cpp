@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "ppohdem/dem/checkpoint.hpp"
@@ -145,20 +146,35 @@ TEST(CheckpointFormat, RoundTripKeepsEveryBit) {
   EXPECT_EQ(d.insertion.rows, c.insertion.rows);
 }
 
-TEST(CheckpointFormat, Version3WithoutInsertionsIsStillRead) {
-  // A version-3 file is a version-4 file without the insertion record (which, empty, is the
-  // last 40 bytes of the payload: u64 0, 3 x f64 0, u64 0): cut them, fix length and CRCs.
-  Checkpoint c = sample();
-  c.insertion = InsertionRecord{};
-  std::vector<std::uint8_t> b = encode_checkpoint(c);
+// An older version's file: this build's encoding with the last `cut` payload bytes (fields the
+// older version did not have, all empty) removed, then version, length and CRCs fixed.
+std::vector<std::uint8_t> as_older_version(std::vector<std::uint8_t> b, std::uint32_t version, std::size_t cut) {
   const std::size_t header = header_length(b);
-  b.erase(b.end() - 4 - 40, b.end() - 4);
-  write_u32(b, 8, 3);
+  b.erase(b.end() - 4 - static_cast<std::ptrdiff_t>(cut), b.end() - 4);
+  write_u32(b, 8, version);
   std::uint64_t payload = b.size() - header - 8;
   for (int k = 0; k < 8; ++k) b[header - 8 + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(payload >> (8 * k));
   write_u32(b, header, crc32_of(b.data(), header));
   write_u32(b, b.size() - 4, crc32_of(b.data() + header + 4, static_cast<std::size_t>(payload)));
-  const Checkpoint d = decode_checkpoint(b, "v3");
+  return b;
+}
+
+TEST(CheckpointFormat, Version4WithoutPartsIsStillRead) {
+  // A version-4 file is a single version-5 file without the part table (u64 0: 8 bytes).
+  const Checkpoint c = sample();
+  const Checkpoint d = decode_checkpoint(as_older_version(encode_checkpoint(c), 4, 8), "v4");
+  EXPECT_EQ(d.run.frames, 3u);
+  EXPECT_EQ(d.insertion.rows, c.insertion.rows);
+  EXPECT_TRUE(d.parts.empty());
+  EXPECT_EQ(d.engine.particles.size(), 3u);
+}
+
+TEST(CheckpointFormat, Version3WithoutInsertionsIsStillRead) {
+  // A version-3 file is a version-4 file without the insertion record (which, empty, is
+  // u64 0, 3 x f64 0, u64 0: 40 bytes), before the part table.
+  Checkpoint c = sample();
+  c.insertion = InsertionRecord{};
+  const Checkpoint d = decode_checkpoint(as_older_version(encode_checkpoint(c), 3, 40 + 8), "v3");
   EXPECT_EQ(d.run.frames, 3u);
   EXPECT_TRUE(d.insertion.counters.empty());
   EXPECT_EQ(d.engine.particles.size(), 3u);
@@ -272,6 +288,20 @@ TEST(CheckpointFormat, FileRoundTripLeavesNoTempFiles) {
   write_checkpoint(dir / "c.bin", sample());
   write_checkpoint(dir / "c.bin", sample());  // replaced atomically
   EXPECT_EQ(read_checkpoint(dir / "c.bin").engine.step, sample().engine.step);
+  // The file (streamed in 1 MiB pieces) holds exactly encode_checkpoint's bytes, also for a
+  // payload of several pieces (20,000 particles, 3 MB).
+  Checkpoint large = sample();
+  for (int i = 0; i < 20000; ++i) {
+    large.engine.particles.push_back(large.engine.particles[static_cast<std::size_t>(i % 3)]);
+    large.engine.particles.back().id = 10 + i;
+  }
+  for (const Checkpoint& c : {sample(), large}) {
+    write_checkpoint(dir / "c.bin", c);
+    std::ifstream in(dir / "c.bin", std::ios::binary);
+    const std::vector<std::uint8_t> file{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    EXPECT_GT(file.size(), c.engine.particles.size() * 140);  // 140 bytes a particle
+    EXPECT_TRUE(file == encode_checkpoint(c));
+  }
   std::size_t files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     ++files;

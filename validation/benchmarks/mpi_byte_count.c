@@ -1,11 +1,12 @@
-/* Payload bytes each rank receives per kind of collective, printed at MPI_Finalize: a PMPI
-   wrapper for measurements (docs/performance.md "Energy sums without a gather"). Build and use:
+/* Payload bytes each rank receives per kind of collective, and sends point to point (MPI_Isend,
+   MPI_Send), printed at MPI_Finalize: a PMPI wrapper for measurements (docs/performance.md
+   "Energy sums without a gather", "Projection to many nodes"). Build and use:
      mpicc -shared -fPIC -O2 -o libmpicount.so validation/benchmarks/mpi_byte_count.c
      mpirun -n 2 -x LD_PRELOAD=$PWD/libmpicount.so ppohdem simulate scene.toml --engine fast --quiet */
 #include <mpi.h>
 #include <stdio.h>
 static double bytes[4]; static long calls[4];
-static const char* names[4] = {"allgather", "allreduce", "alltoall(v)", "other"};
+static const char* names[4] = {"allgather", "allreduce", "alltoall(v)", "send"};
 static int tsize(MPI_Datatype t) { int s = 0; PMPI_Type_size(t, &s); return s; }
 int MPI_Allgather(const void* sb, int sc, MPI_Datatype st, void* rb, int rc, MPI_Datatype rt, MPI_Comm c) {
   int n; PMPI_Comm_size(c, &n); bytes[0] += (double)rc * tsize(rt) * n; calls[0]++;
@@ -27,8 +28,16 @@ int MPI_Alltoall(const void* sb, int sc, MPI_Datatype st, void* rb, int rc, MPI_
   int n; PMPI_Comm_size(c, &n); bytes[2] += (double)rc * tsize(rt) * n; calls[2]++;
   return PMPI_Alltoall(sb, sc, st, rb, rc, rt, c);
 }
+int MPI_Isend(const void* b, int n, MPI_Datatype t, int dest, int tag, MPI_Comm c, MPI_Request* req) {
+  bytes[3] += (double)n * tsize(t); calls[3]++;
+  return PMPI_Isend(b, n, t, dest, tag, c, req);
+}
+int MPI_Send(const void* b, int n, MPI_Datatype t, int dest, int tag, MPI_Comm c) {
+  bytes[3] += (double)n * tsize(t); calls[3]++;
+  return PMPI_Send(b, n, t, dest, tag, c);
+}
 int MPI_Finalize(void) {
   int r; PMPI_Comm_rank(MPI_COMM_WORLD, &r);
-  for (int k = 0; k < 3; ++k) fprintf(stderr, "mpicount rank %d %s calls %ld bytes %.0f\n", r, names[k], calls[k], bytes[k]);
+  for (int k = 0; k < 4; ++k) fprintf(stderr, "mpicount rank %d %s calls %ld bytes %.0f\n", r, names[k], calls[k], bytes[k]);
   return PMPI_Finalize();
 }

@@ -12,104 +12,20 @@
 
 #include "ppohdem/build_info.hpp"
 #include "ppohdem/error.hpp"
-#include "ppohdem/io/atomic_file.hpp"
+#include "ppohdem/io/block_file.hpp"
+#include "checkpoint_codec.hpp"
 
 namespace ppohdem::dem {
 namespace {
 
-// ---- little-endian encoding -------------------------------------------------------------
+using checkpoint_codec::Reader;
+using checkpoint_codec::Writer;
 
-class Writer {
- public:
-  void u8(std::uint8_t v) { bytes.push_back(v); }
-  void u32(std::uint32_t v) {
-    for (int k = 0; k < 4; ++k) bytes.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
-  }
-  void u64(std::uint64_t v) {
-    for (int k = 0; k < 8; ++k) bytes.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
-  }
-  void i64(std::int64_t v) { u64(static_cast<std::uint64_t>(v)); }
-  void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
-  void vec(const Vec3& v) {
-    f64(v.x());
-    f64(v.y());
-    f64(v.z());
-  }
-  void str(const std::string& s) {
-    u64(s.size());
-    bytes.insert(bytes.end(), s.begin(), s.end());
-  }
-  std::vector<std::uint8_t> bytes;
-};
-
-class Reader {
- public:
-  Reader(const std::uint8_t* data, std::size_t size, const std::string& source, std::size_t offset)
-      : data_(data), size_(size), source_(source), base_(offset) {}
-
-  std::uint8_t u8(const char* what) { return *take(1, what); }
-  std::uint32_t u32(const char* what) {
-    const std::uint8_t* p = take(4, what);
-    std::uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) v |= static_cast<std::uint32_t>(p[k]) << (8 * k);
-    return v;
-  }
-  std::uint64_t u64(const char* what) {
-    const std::uint8_t* p = take(8, what);
-    std::uint64_t v = 0;
-    for (int k = 0; k < 8; ++k) v |= static_cast<std::uint64_t>(p[k]) << (8 * k);
-    return v;
-  }
-  std::int64_t i64(const char* what) { return static_cast<std::int64_t>(u64(what)); }
-  double f64(const char* what) { return std::bit_cast<double>(u64(what)); }
-  Vec3 vec(const char* what) {
-    const double x = f64(what), y = f64(what), z = f64(what);
-    return {x, y, z};
-  }
-  std::string str(const char* what) {
-    const std::size_t n = count(1, what);
-    const std::uint8_t* p = take(n, what);
-    return std::string(reinterpret_cast<const char*>(p), n);
-  }
-  /// A record count, checked against the bytes left (each record >= record_bytes) before
-  /// anything is allocated.
-  std::size_t count(std::size_t record_bytes, const char* what) {
-    const std::uint64_t n = u64(what);
-    if (n > (size_ - pos_) / record_bytes) {
-      fail(std::string(what) + ": a count of " + std::to_string(n) + " records of >= " +
-           std::to_string(record_bytes) + " bytes, but only " + std::to_string(size_ - pos_) +
-           " bytes are left");
-    }
-    return static_cast<std::size_t>(n);
-  }
-  bool done() const { return pos_ == size_; }
-  std::size_t position() const { return base_ + pos_; }
-  [[noreturn]] void fail(const std::string& message) const {
-    throw InputError(source_, 0, "checkpoint: " + message + " (byte " + std::to_string(base_ + pos_) + ")");
-  }
-
- private:
-  const std::uint8_t* take(std::size_t n, const char* what) {
-    if (n > size_ - pos_) fail(std::string("unexpected end reading ") + what);
-    const std::uint8_t* p = data_ + pos_;
-    pos_ += n;
-    return p;
-  }
-  const std::uint8_t* data_;
-  std::size_t size_;
-  std::size_t pos_ = 0;
-  const std::string& source_;
-  std::size_t base_;  // offset of data_ in the file, for messages
-};
-
-// ---- payload, format version 4 -----------------------------------------------------------
+// ---- payload, format version 5 -----------------------------------------------------------
 //   str provenance, str scene
 //   engine: str name, i64 step, f64 dt,
-//           u64 n, n x particle {i64 id, vec position, vec velocity, vec angular_velocity,
-//                                f64 radius, u32 material (< 65536), vec force, vec torque}
-//           u64 n, n x contact {u8 kind, i64 id_a, i64 id_b, vec xi, f64 k_t, vec branch_i,
-//                               vec branch_j, vec surface_velocity, vec rolling torque,
-//                               f64 rolling stiffness}
+//           u64 n, n x particle (checkpoint_codec.hpp)
+//           u64 n, n x contact (checkpoint_codec.hpp)
 //           energies {f64 kinetic, rotational, gravitational, elastic, dissipated,
 //                     boundary_work}
 //           u64 n, n x i64 escaped id
@@ -118,13 +34,16 @@ class Reader {
 //           u64 n, n bytes engine_private
 //   objects: u64 n, n x {str name, f64 qw, qx, qy, qz, vec translation, u64 outside_grid}
 //   run: u64 n, n x str energy row; u64 n, n x str object row; u64 frames
-//   insertion (version 4): u64 n, n x {u64 events, u64 draws, i64 requested, i64 inserted,
-//              i64 failed}; f64 kinetic, rotational, gravitational; u64 n, n x str row
-// Version 3 was version 4 without the insertion record.
+//   insertion: u64 n, n x {u64 events, u64 draws, i64 requested, i64 inserted, i64 failed};
+//              f64 kinetic, rotational, gravitational; u64 n, n x str row
+//   parts: u64 n, n x {str file, u64 particles, u64 contacts, u64 escaped ids,
+//          u32 payload CRC-32}; n > 0 (a manifest): the three lists above are empty and
+//          live in the parts (checkpoint_parts.cpp)
+// Version 4 was version 5 without the parts; version 3 also without the insertion record.
 // Version 2 was version 3 without the rolling spring; version 1 also without the particles'
 // material (one-material scenes only).
-constexpr std::size_t kParticleBytes = 8 + 16 * 8 + 4;
-constexpr std::size_t kContactBytes = 1 + 2 * 8 + 17 * 8;
+using checkpoint_codec::kContactBytes;
+using checkpoint_codec::kParticleBytes;
 
 void encode_payload(Writer& w, const Checkpoint& c) {
   w.str(c.provenance);
@@ -135,29 +54,21 @@ void encode_payload(Writer& w, const Checkpoint& c) {
   w.f64(e.dt);
   w.u64(e.particles.size());
   for (const Particle& p : e.particles) {
-    w.i64(p.id);
-    w.vec(p.position);
-    w.vec(p.velocity);
-    w.vec(p.angular_velocity);
-    w.f64(p.radius);
-    w.u32(p.material);
-    w.vec(p.force);
-    w.vec(p.torque);
+    checkpoint_codec::put_particle(w, p);
+    w.pass_on();
   }
   w.u64(e.contacts.size());
   for (const ContactHistoryRecord& r : e.contacts) {
-    w.u8(static_cast<std::uint8_t>(r.kind));
-    w.i64(r.id_a);
-    w.i64(r.id_b);
-    TangentialSpring::for_each_field(r.spring, [&w](const auto& field) {
-      if constexpr (std::is_same_v<std::decay_t<decltype(field)>, double>) w.f64(field);
-      else w.vec(field);
-    });
+    checkpoint_codec::put_contact(w, r);
+    w.pass_on();
   }
   const Energies& a = e.accumulators;
   for (double v : {a.kinetic, a.rotational, a.gravitational, a.elastic, a.dissipated, a.boundary_work}) w.f64(v);
   w.u64(e.escaped_ids.size());
-  for (std::int64_t id : e.escaped_ids) w.i64(id);
+  for (std::int64_t id : e.escaped_ids) {
+    w.i64(id);
+    w.pass_on();
+  }
   w.u64(e.boundary_loads.size());
   for (const BoundaryLoad& l : e.boundary_loads) {
     w.vec(l.force);
@@ -179,9 +90,15 @@ void encode_payload(Writer& w, const Checkpoint& c) {
     w.u64(o.outside_grid);
   }
   w.u64(c.run.energy_rows.size());
-  for (const std::string& row : c.run.energy_rows) w.str(row);
+  for (const std::string& row : c.run.energy_rows) {
+    w.str(row);
+    w.pass_on();
+  }
   w.u64(c.run.object_rows.size());
-  for (const std::string& row : c.run.object_rows) w.str(row);
+  for (const std::string& row : c.run.object_rows) {
+    w.str(row);
+    w.pass_on();
+  }
   w.u64(c.run.frames);
   const InsertionRecord& in = c.insertion;
   w.u64(in.counters.size());
@@ -197,6 +114,14 @@ void encode_payload(Writer& w, const Checkpoint& c) {
   w.f64(in.gravitational);
   w.u64(in.rows.size());
   for (const std::string& row : in.rows) w.str(row);
+  w.u64(c.parts.size());
+  for (const CheckpointPartEntry& part : c.parts) {
+    w.str(part.file);
+    w.u64(part.particles);
+    w.u64(part.contacts);
+    w.u64(part.escaped);
+    w.u32(part.payload_crc);
+  }
 }
 
 void decode_payload(Reader& r, Checkpoint& c, std::uint32_t version) {
@@ -207,33 +132,9 @@ void decode_payload(Reader& r, Checkpoint& c, std::uint32_t version) {
   e.step = static_cast<long>(r.i64("step"));
   e.dt = r.f64("dt");
   e.particles.resize(r.count(kParticleBytes, "particles"));
-  for (Particle& p : e.particles) {
-    p.id = r.i64("particle id");
-    p.position = r.vec("position");
-    p.velocity = r.vec("velocity");
-    p.angular_velocity = r.vec("angular velocity");
-    p.radius = r.f64("radius");
-    const std::uint32_t material = r.u32("material");
-    if (material > 0xFFFF) r.fail("particle material index " + std::to_string(material) + ", expected < 65536");
-    p.material = static_cast<std::uint16_t>(material);
-    p.force = r.vec("force");
-    p.torque = r.vec("torque");
-  }
+  for (Particle& p : e.particles) checkpoint_codec::get_particle(r, p);
   e.contacts.resize(r.count(kContactBytes, "contact histories"));
-  for (ContactHistoryRecord& h : e.contacts) {
-    const std::uint8_t kind = r.u8("contact kind");
-    if (kind > 1) r.fail("contact kind " + std::to_string(kind) + ", expected 0 (pair) or 1 (boundary)");
-    h.kind = static_cast<ContactHistoryRecord::Kind>(kind);
-    h.id_a = r.i64("contact id_a");
-    h.id_b = r.i64("contact id_b");
-    h.spring.displacement = r.vec("tangential displacement");
-    h.spring.stiffness = r.f64("tangential stiffness");
-    h.spring.branch_i = r.vec("branch vector i");
-    h.spring.branch_j = r.vec("branch vector j");
-    h.spring.surface_velocity = r.vec("boundary surface velocity");
-    h.spring.rolling.torque = r.vec("rolling spring torque");
-    h.spring.rolling.stiffness = r.f64("rolling spring stiffness");
-  }
+  for (ContactHistoryRecord& h : e.contacts) checkpoint_codec::get_contact(r, h);
   Energies& a = e.accumulators;
   for (double* v : {&a.kinetic, &a.rotational, &a.gravitational, &a.elastic, &a.dissipated, &a.boundary_work}) {
     *v = r.f64("energies");
@@ -280,6 +181,20 @@ void decode_payload(Reader& r, Checkpoint& c, std::uint32_t version) {
     in.rows.resize(r.count(8, "insertion rows"));
     for (std::string& row : in.rows) row = r.str("insertion row");
   }
+  if (version >= 5) {
+    c.parts.resize(r.count(8 + 3 * 8 + 4, "parts"));
+    for (CheckpointPartEntry& part : c.parts) {
+      part.file = r.str("part file name");
+      part.particles = r.u64("part particle count");
+      part.contacts = r.u64("part contact count");
+      part.escaped = r.u64("part escaped-id count");
+      part.payload_crc = r.u32("part CRC-32");
+    }
+    if (!c.parts.empty() && (!e.particles.empty() || !e.contacts.empty() || !e.escaped_ids.empty())) {
+      r.fail("a manifest of " + std::to_string(c.parts.size()) +
+             " parts must hold no particles, contacts or escaped ids itself (they are in the parts)");
+    }
+  }
   if (!r.done()) r.fail("unexpected bytes after the last field");
 }
 
@@ -289,81 +204,128 @@ std::uint32_t crc32_of(const std::uint8_t* data, std::size_t size) {
   return static_cast<std::uint32_t>(::crc32_z(::crc32_z(0L, Z_NULL, 0), data, size));
 }
 
+std::uint32_t crc32_continue(std::uint32_t crc, const std::uint8_t* data, std::size_t size) {
+  return static_cast<std::uint32_t>(::crc32_z(crc, data, size));
+}
+
 std::string checkpoint_build_name() {
   return std::string("ppohdem ") + build_info::kVersion + " (git " + build_info::kGitHash + ")";
 }
 
-std::vector<std::uint8_t> encode_checkpoint(const Checkpoint& checkpoint) {
-  Writer payload;
-  encode_payload(payload, checkpoint);
+namespace checkpoint_codec {
+
+std::vector<std::uint8_t> frame_header(const char* magic, std::uint32_t version, std::uint64_t payload_length) {
   Writer w;
-  w.bytes.assign(kCheckpointMagic, kCheckpointMagic + 8);
-  w.u32(kCheckpointFormatVersion);
+  w.bytes.assign(magic, magic + 8);
+  w.u32(version);
   const std::string build = checkpoint_build_name();
   w.u32(static_cast<std::uint32_t>(build.size()));
   w.bytes.insert(w.bytes.end(), build.begin(), build.end());
-  w.u64(payload.bytes.size());
+  w.u64(payload_length);
   w.u32(crc32_of(w.bytes.data(), w.bytes.size()));
-  w.bytes.insert(w.bytes.end(), payload.bytes.begin(), payload.bytes.end());
-  w.u32(crc32_of(payload.bytes.data(), payload.bytes.size()));
   return std::move(w.bytes);
 }
 
-Checkpoint decode_checkpoint(const std::vector<std::uint8_t>& bytes, const std::string& source) {
+std::vector<std::uint8_t> framed(const char* magic, std::uint32_t version, const std::vector<std::uint8_t>& payload) {
+  Writer w;
+  w.bytes = frame_header(magic, version, payload.size());
+  w.bytes.insert(w.bytes.end(), payload.begin(), payload.end());
+  w.u32(crc32_of(payload.data(), payload.size()));
+  return std::move(w.bytes);
+}
+
+Frame unframe(const std::vector<std::uint8_t>& bytes, const char* magic, const char* noun, const std::string& source,
+              std::uint32_t oldest, std::uint32_t newest) {
+  const std::string what(noun);
   // The fixed part of the header (magic, version, build) has the same place in every version.
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kCheckpointMagic, 8) != 0) {
-    throw InputError(source, 0, "not a ppohdem checkpoint (expected the magic bytes 'PPOHDEMC' at the start)");
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), magic, 8) != 0) {
+    throw InputError(source, 0, "not a ppohdem " + what + " (expected the magic bytes '" + std::string(magic, 8) +
+                                    "' at the start)");
   }
-  Reader h(bytes.data() + 8, bytes.size() - 8, source, 8);
+  Reader h(bytes.data() + 8, bytes.size() - 8, source, 8, noun);
   const auto bad_header = [&](const std::string& why) {
-    return InputError(source, 0, "checkpoint header is corrupted or the file is truncated (" + why + ")");
+    return InputError(source, 0, what + " header is corrupted or the file is truncated (" + why + ")");
   };
   if (bytes.size() < 16) throw bad_header("shorter than 16 bytes");
-  const std::uint32_t version = h.u32("format version");
+  Frame f;
+  f.version = h.u32("format version");
   const std::uint32_t build_length = h.u32("build name length");
   // 4096: a build name is ~30 bytes; the limit only stops a damaged length early.
   if (build_length > 4096) throw bad_header("a build name of " + std::to_string(build_length) + " bytes");
   if (bytes.size() < 16 + std::size_t{build_length} + 12) throw bad_header("the header does not fit in the file");
-  std::string build(build_length, '\0');
-  for (char& ch : build) ch = static_cast<char>(h.u8("build name"));
+  f.build.assign(build_length, '\0');
+  for (char& ch : f.build) ch = static_cast<char>(h.u8("build name"));
   const std::uint64_t payload_length = h.u64("payload length");
   const std::size_t header_length = h.position();
   const std::uint32_t header_crc = h.u32("header CRC-32");
   if (crc32_of(bytes.data(), header_length) != header_crc) {
-    throw InputError(source, 0, "checkpoint header is corrupted (CRC-32 mismatch); the file was damaged");
+    throw InputError(source, 0, what + " header is corrupted (CRC-32 mismatch); the file was damaged");
   }
-  if (version < kOldestCheckpointFormatVersion || version > kCheckpointFormatVersion) {
-    throw InputError(source, 0, "checkpoint format version " + std::to_string(version) + ", written by " +
-                                    build + "; this build (" + checkpoint_build_name() +
-                                    ") reads format versions " + std::to_string(kOldestCheckpointFormatVersion) +
-                                    " to " + std::to_string(kCheckpointFormatVersion) +
+  if (f.version < oldest || f.version > newest) {
+    throw InputError(source, 0, what + " format version " + std::to_string(f.version) + ", written by " + f.build +
+                                    "; this build (" + checkpoint_build_name() + ") reads format versions " +
+                                    std::to_string(oldest) + " to " + std::to_string(newest) +
                                     " only: restart with the build that wrote it");
   }
-  const std::size_t payload_start = h.position();
-  const std::uint64_t expected = payload_start + payload_length + 4;
+  f.payload_start = h.position();
+  const std::uint64_t expected = f.payload_start + payload_length + 4;
   if (payload_length > bytes.size() || bytes.size() != expected) {
-    throw InputError(source, 0, std::string(bytes.size() < expected ? "checkpoint is truncated" : "checkpoint is too long") +
+    throw InputError(source, 0, what + (bytes.size() < expected ? " is truncated" : " is too long") +
                                     ": the header announces " + std::to_string(expected) + " bytes, the file has " +
                                     std::to_string(bytes.size()));
   }
-  const std::uint8_t* payload = bytes.data() + payload_start;
-  const auto length = static_cast<std::size_t>(payload_length);
-  Reader trailer(payload + length, 4, source, payload_start + length);
-  if (crc32_of(payload, length) != trailer.u32("payload CRC-32")) {
-    throw InputError(source, 0, "checkpoint data is corrupted (CRC-32 mismatch over " + std::to_string(length) +
+  f.payload_length = static_cast<std::size_t>(payload_length);
+  const std::uint8_t* payload = bytes.data() + f.payload_start;
+  Reader trailer(payload + f.payload_length, 4, source, f.payload_start + f.payload_length, noun);
+  if (crc32_of(payload, f.payload_length) != trailer.u32("payload CRC-32")) {
+    throw InputError(source, 0, what + " data is corrupted (CRC-32 mismatch over " + std::to_string(f.payload_length) +
                                     " bytes); the file was damaged");
   }
+  return f;
+}
+
+}  // namespace checkpoint_codec
+
+std::vector<std::uint8_t> encode_checkpoint(const Checkpoint& checkpoint) {
+  Writer payload;
+  encode_payload(payload, checkpoint);
+  return checkpoint_codec::framed(kCheckpointMagic, kCheckpointFormatVersion, payload.bytes);
+}
+
+Checkpoint decode_checkpoint(const std::vector<std::uint8_t>& bytes, const std::string& source) {
+  const checkpoint_codec::Frame f = checkpoint_codec::unframe(bytes, kCheckpointMagic, "checkpoint", source,
+                                                              kOldestCheckpointFormatVersion, kCheckpointFormatVersion);
   Checkpoint c;
-  c.build = build;
-  Reader r(payload, length, source, payload_start);
-  decode_payload(r, c, version);
+  c.build = f.build;
+  Reader r(bytes.data() + f.payload_start, f.payload_length, source, f.payload_start);
+  decode_payload(r, c, f.version);
   return c;
 }
 
+// encode_checkpoint's bytes, streamed: the payload encoded once to count its length (the
+// header's), then again into the file with its CRC-32.
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint& checkpoint) {
-  const std::vector<std::uint8_t> bytes = encode_checkpoint(checkpoint);
-  AtomicFileWriter writer(file, /*binary=*/true);
-  writer.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  std::uint64_t length = 0;
+  {
+    Writer counter;
+    counter.sink = [&length](const std::uint8_t*, std::size_t size) { length += size; };
+    encode_payload(counter, checkpoint);
+    counter.pass_on(true);
+  }
+  BlockFileWriter writer(file);  // atomic, past the page cache (io/block_file.hpp)
+  const std::vector<std::uint8_t> header =
+      checkpoint_codec::frame_header(kCheckpointMagic, kCheckpointFormatVersion, length);
+  writer.write(reinterpret_cast<const char*>(header.data()), header.size());
+  std::uint32_t crc = crc32_of(nullptr, 0);
+  Writer w;
+  w.sink = [&](const std::uint8_t* data, std::size_t size) {
+    crc = crc32_continue(crc, data, size);
+    writer.write(reinterpret_cast<const char*>(data), size);
+  };
+  encode_payload(w, checkpoint);
+  w.pass_on(true);
+  w.u32(crc);
+  writer.write(reinterpret_cast<const char*>(w.bytes.data()), w.bytes.size());
   writer.commit(/*sync_to_disk=*/true);
 }
 
@@ -372,7 +334,9 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   if (!in) throw InputError(file.string(), 0, "cannot open the checkpoint file");
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw InputError(file.string(), 0, "cannot read the checkpoint file");
-  return decode_checkpoint(bytes, file.string());
+  Checkpoint c = decode_checkpoint(bytes, file.string());
+  if (!c.parts.empty()) checkpoint_codec::read_parts(c, file);
+  return c;
 }
 
 }  // namespace ppohdem::dem

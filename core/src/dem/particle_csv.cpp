@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "ppohdem/error.hpp"
-#include "ppohdem/io/atomic_file.hpp"
+#include "ppohdem/io/block_file.hpp"
 
 namespace ppohdem::dem {
 namespace {
@@ -158,13 +158,14 @@ Particles read_particles_csv(const std::filesystem::path& file,
 
 void write_particles_csv(const std::filesystem::path& file, const Particles& particles,
                          const std::string& header_comment, const std::vector<std::string>& material_names) {
-  AtomicFileWriter writer(file);
-  std::ostream& out = writer.stream();
+  // Blocks past the page cache (io/block_file.hpp; docs/performance.md "I/O: particle files").
+  BlockFileWriter writer(file);
   const bool with_material = material_names.size() > 1;
-  if (!header_comment.empty()) out << "# " << header_comment << '\n';
-  out << (with_material ? kMaterialHeader : kHeader) << '\n';
-  std::string block;  // written 1 MiB at a time
+  std::string block;  // handed to the writer 1 MiB at a time
   block.reserve((1u << 20) + 1024);
+  if (!header_comment.empty()) block += "# " + header_comment + '\n';
+  block += with_material ? kMaterialHeader : kHeader;
+  block += '\n';
   char buf[512];
   for (const Particle& p : particles) {
     char* at = std::to_chars(buf, buf + 32, static_cast<long long>(p.id)).ptr;
@@ -181,11 +182,11 @@ void write_particles_csv(const std::filesystem::path& file, const Particles& par
     }
     block += '\n';
     if (block.size() >= (1u << 20)) {
-      out.write(block.data(), static_cast<std::streamsize>(block.size()));
+      writer.write(block.data(), block.size());
       block.clear();
     }
   }
-  out.write(block.data(), static_cast<std::streamsize>(block.size()));
+  writer.write(block.data(), block.size());
   writer.commit();
 }
 

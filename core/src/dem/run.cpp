@@ -206,11 +206,13 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     }
     if (out.csv || out.vtk || out.pov || out.vtu) ++summary.frames;
   };
-  auto make_checkpoint = [&] {
+  // Checkpoints: one file by rank 0 on one rank; per rank on several, without a gather
+  // (checkpoint.hpp "Parts"). Collective: on every rank.
+  const bool checkpoint_per_rank = options.comm != nullptr && options.comm->size() > 1;
+  auto make_checkpoint = [&] {  // all but the engine state
     Checkpoint c;
     c.provenance = header;
     c.scene = options.scene_name;
-    c.engine = engine.save_state();
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       const DistanceFieldObject& object = *scene.objects[o].object;
       const RigidTransform pose = object.pose_at(engine.time());
@@ -222,6 +224,16 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     c.run.frames = summary.frames;
     c.insertion = insertion.record();
     return c;
+  };
+  auto write_checkpoint_of = [&](const fs::path& file) {
+    if (checkpoint_per_rank) {
+      EngineStateShare share = engine.save_state_share();
+      write_checkpoint_parts(file, make_checkpoint(), std::move(share), *options.comm);
+      return;
+    }
+    Checkpoint c = make_checkpoint();
+    c.engine = engine.save_state();
+    if (writer) write_checkpoint(file, c);
   };
 
   // The deepest overlap of the initial state (the engine was built from the scene), which the
@@ -279,8 +291,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     flush_logs();
     std::string note;
     try {
-      const Checkpoint failed = make_checkpoint();  // collective: on every rank
-      if (writer) write_checkpoint(out.dir / kFailedCheckpointFile, failed);
+      write_checkpoint_of(out.dir / kFailedCheckpointFile);  // collective: on every rank
       // Every rank throws below; the program may then end all ranks at once (MPI_Abort):
       // not before rank 0 has written the logs and this checkpoint.
       if (options.comm != nullptr) options.comm->barrier();
@@ -327,8 +338,10 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     if (options.checkpoint_every > 0 && (step % options.checkpoint_every == 0 || step == scene.steps)) {
       // The logs first: every file on disk then covers at least the checkpoint's steps.
       flush_logs();
-      const Checkpoint checkpoint = make_checkpoint();  // collective: on every rank
-      if (writer) write_checkpoint(out.dir / kCheckpointFile, checkpoint);
+      const auto checkpoint_start = clock::now();
+      write_checkpoint_of(out.dir / kCheckpointFile);  // collective: on every rank
+      summary.checkpoint_seconds += std::chrono::duration<double>(clock::now() - checkpoint_start).count();
+      ++summary.checkpoints;
     }
     if (options.at_step_boundary) options.at_step_boundary(step);
     const long done = step - first_step, total = scene.steps - first_step;
@@ -353,6 +366,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.inserted = insertion.inserted();
   summary.insert_failed = insertion.failed();
   summary.inserted_energy = insertion.input();
+  const auto gather_start = clock::now();  // the first particles() of the end gathers them
   const std::size_t particle_count = engine.particles().size();  // collective: on every rank
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
@@ -361,7 +375,6 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
         << " could not be inserted (insertions.csv)\n";
   }
   flush_logs();
-  const auto gather_start = clock::now();
   const Particles& final_particles = engine.particles();  // collective: on every rank
   const auto write_start = clock::now();
   summary.gather_seconds = std::chrono::duration<double>(write_start - gather_start).count();

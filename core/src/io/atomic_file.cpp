@@ -13,6 +13,12 @@ namespace {
 std::atomic<unsigned> g_temp_counter{0};
 }
 
+std::filesystem::path atomic_temp_path(const std::filesystem::path& target) {
+  std::filesystem::path temp = target;
+  temp += ".tmp." + std::to_string(::getpid()) + "." + std::to_string(g_temp_counter++);
+  return temp;
+}
+
 AtomicFileWriter::AtomicFileWriter(std::filesystem::path target, bool binary)
     : target_(std::move(target)) {
   const auto dir = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
@@ -20,8 +26,7 @@ AtomicFileWriter::AtomicFileWriter(std::filesystem::path target, bool binary)
   if (!std::filesystem::is_directory(dir, ec)) {
     throw InputError(target_.string(), 0, "cannot write: directory '" + dir.string() + "' does not exist");
   }
-  temp_ = target_;
-  temp_ += ".tmp." + std::to_string(::getpid()) + "." + std::to_string(g_temp_counter++);
+  temp_ = atomic_temp_path(target_);
   out_.open(temp_, binary ? std::ios::out | std::ios::binary | std::ios::trunc : std::ios::out | std::ios::trunc);
   if (!out_) {
     throw InputError(target_.string(), 0, "cannot write: unable to create a file in '" + dir.string() + "'");

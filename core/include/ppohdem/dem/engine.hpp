@@ -98,6 +98,18 @@ struct EngineState {
   std::vector<std::uint8_t> engine_private;
 };
 
+/// One rank's share of an EngineState, for checkpoints written per rank (checkpoint.hpp
+/// "Parts"): `state` holds the fields that are the same on every rank (step, dt, accumulators,
+/// loads, counts, power, private) and, in its three lists, this rank's share only: the
+/// particles it owns, the contact histories it keeps (every record on exactly one rank) and
+/// the escaped ids among its particles. The shares of all ranks, merged (particles placed by
+/// `order`, the lists sorted), are save_state() exactly.
+struct EngineStateShare {
+  EngineState state;
+  std::vector<std::uint64_t> order;  ///< construction index of each of state.particles
+  std::uint64_t total = 0;           ///< the whole system's particle count
+};
+
 /// The deepest contact of the last force evaluation (run diagnostics, run.hpp).
 struct LargestOverlap {
   double ratio = 0.0;      ///< overlap / smaller radius (boundary: / particle radius) [-]
@@ -143,6 +155,15 @@ class DemEngine {
   /// Checkpoint/restart (EngineState above). Engines without support throw InputError.
   virtual EngineState save_state() const {
     throw InputError("engine '" + name() + "' does not support checkpoints (save_state)");
+  }
+  /// This rank's share of save_state() (EngineStateShare). Collective like save_state().
+  /// Default: the whole state as the one share (an engine on one rank).
+  virtual EngineStateShare save_state_share() const {
+    EngineStateShare share{save_state(), {}, 0};
+    share.total = share.state.particles.size();
+    share.order.resize(share.state.particles.size());
+    for (std::size_t i = 0; i < share.order.size(); ++i) share.order[i] = i;
+    return share;
   }
   /// Continue from `state`; the engine must have been built from the same setup (same
   /// particle ids in the same order, same boundaries, same dt): throws InputError otherwise.

@@ -8,7 +8,8 @@
 /// the run ends at step scene.steps.
 /// Checkpoints (checkpoint.hpp): with checkpoint_every = N > 0, <dir>/checkpoint.bin is
 ///   replaced atomically at every step that is a multiple of N and at the last step, after
-///   that step's outputs. A restart (RunOptions::restart) restores the engine, checks that the
+///   that step's outputs; with several ranks (comm) it is a manifest written after every
+///   rank's part (checkpoint.hpp "Parts"). A restart (RunOptions::restart) restores the engine, checks that the
 ///   objects are where the checkpoint saw them, and continues energy.csv, objects.csv and the
 ///   frame numbering, so a run to the same end step gives the same files (up to the header
 ///   line) as an uninterrupted one. Stale temp files of killed runs in <dir> are removed.
@@ -37,6 +38,8 @@ struct RunSummary {
   double gather_seconds = 0.0;  ///< the final particles gathered to rank 0 [s]
   double write_seconds = 0.0;   ///< final.csv written (rank 0) [s]
   std::uintmax_t write_bytes = 0;  ///< size of final.csv (rank 0) [B]
+  std::size_t checkpoints = 0;        ///< checkpoints written by the time loop
+  double checkpoint_seconds = 0.0;    ///< their time (rank 0, part of wall_seconds) [s]
   Energies initial;
   Energies final;
   std::size_t escaped = 0;

@@ -9,6 +9,9 @@
 
 namespace ppohdem {
 
+/// A new temp name "<target>.tmp.<pid>.<n>" beside the target (unique in this process).
+std::filesystem::path atomic_temp_path(const std::filesystem::path& target);
+
 class AtomicFileWriter {
  public:
   /// Opens the temp file; throws InputError if the directory does not exist or is not

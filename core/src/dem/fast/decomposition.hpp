@@ -176,4 +176,21 @@ class Decomposition {
   static constexpr double kInf = std::numeric_limits<double>::infinity();
 };
 
+/// The halo rule (halo.cpp, and the projection to many ranks, halo_projection.cpp): a particle
+/// centred at x is a ghost on rank r iff it lies within `reach` = 2 R_max + skin of r's brick,
+/// each brick taken one part in 1e6 of the reach larger, so that the rounding of a brick face
+/// (relative 1e-16 of the coordinates) never hides a partner; extra ghosts cost nothing but
+/// memory (the list keeps only pairs within R_i + R_j + skin).
+inline double halo_slack(double reach) { return 1e-6 * reach; }
+/// The halo reach [m]: two of the largest radius and the Verlet skin.
+inline double halo_reach(double r_max, double skin) { return 2.0 * r_max + skin; }
+/// The ranks rank `me` exchanges ghosts and migrants with under the halo rule.
+inline std::vector<int> halo_peers(const Decomposition& d, int me, double reach) {
+  return d.peers(me, reach, halo_slack(reach));
+}
+/// Whether a particle centred at x is a ghost on rank r under the halo rule.
+inline bool in_halo(const Decomposition& d, int r, const Vec3& x, double reach) {
+  return d.distance2(r, x, halo_slack(reach)) < reach * reach;
+}
+
 }  // namespace ppohdem::dem::fast

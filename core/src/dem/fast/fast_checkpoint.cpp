@@ -4,43 +4,80 @@
 
 namespace ppohdem::dem::fast {
 
+namespace {
+
+// This rank's contact histories: pairs from the lower-id side, which is owned here, and the
+// boundary records of its particles (every record on exactly one rank).
+std::vector<ContactHistoryRecord> own_contact_records(const FastState& s) {
+  std::vector<ContactHistoryRecord> records;
+  if (!s.friction) return records;
+  for (std::size_t k = 0; k < s.owned; ++k) {
+    for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
+      const std::uint32_t j = s.partner[slot];
+      if (s.spring_of[slot] == kNoSpring || s.id[k] > s.id[j]) continue;
+      // A slot keeps a spring only while its pair touched at the last evaluation, whose
+      // positions these still are; the branch vectors are the ones it computed (the same
+      // expressions, pair_geometry), which the kernel stores only when the energies are
+      // tracked (their only other use): the checkpoint is the same either way.
+      TangentialSpring sp = s.spring_at(s.spring_of[slot]);
+      const PairGeometry g = pair_geometry(s, k, j, s.x[k] - s.x[j]);
+      sp.branch_i = g.r_i;
+      sp.branch_j = g.r_j;
+      if (sp.stiffness != 0.0 || sp.branch_i != Vec3::Zero()) {
+        records.push_back({ContactHistoryRecord::Kind::kParticlePair, s.id[k], s.id[j], sp});
+      }
+    }
+  }
+  for (const BoundaryRecord& r : s.records) {
+    records.push_back({ContactHistoryRecord::Kind::kParticleBoundary, s.id[r.particle],
+                       boundary_history_key(r.boundary, r.feature), r.spring});
+  }
+  return records;
+}
+
+std::vector<std::int64_t> own_escaped_ids(const FastState& s) {
+  std::vector<std::int64_t> ids;
+  for (std::size_t k = 0; k < s.owned; ++k) {
+    if (s.escaped_via[k] != 0) ids.push_back(s.id[k]);
+  }
+  return ids;
+}
+
+void sort_contact_records(std::vector<ContactHistoryRecord>& records) {
+  std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) {
+    return std::tuple(a.kind, a.id_a, a.id_b) < std::tuple(b.kind, b.id_a, b.id_b);
+  });
+}
+
+// The fields that are the same on every rank (collective sums), without the three lists.
+EngineState global_state(const FastEngine& engine, const FastEngine::Impl& m) {
+  EngineState state;
+  state.engine = engine.name();
+  state.step = m.steps;
+  state.dt = m.s.dt;
+  state.accumulators = engine.energies();
+  if (m.loads_stale) m.sum_loads();
+  state.boundary_loads = m.loads;
+  state.contact_counts = engine.contact_counts();
+  state.boundary_power = m.power;  // P(n), for the next trapezoid step of boundary_work
+  return state;
+}
+
+}  // namespace
+
 EngineState FastEngine::save_state() const {
   const Impl& m = *impl_;
   const FastState& s = m.s;
-  EngineState state;
-  state.engine = name();
-  state.step = m.steps;
-  state.dt = s.dt;
+  EngineState state = global_state(*this, m);
   state.particles = particles();  // whole system (gathered)
   if (s.friction) {
-    // This rank's records (pairs from the lower-id side, which is owned here), then all ranks'.
     Bytes mine;
     Packer pk(mine);
-    auto put = [&](ContactHistoryRecord::Kind kind, std::int64_t a, std::int64_t b, const TangentialSpring& sp) {
-      pk.put(kind);
-      pk.put(a);
-      pk.put(b);
-      pk.put(sp);
-    };
-    for (std::size_t k = 0; k < s.owned; ++k) {
-      for (std::uint32_t slot = s.first[k]; slot < s.first[k + 1]; ++slot) {
-        const std::uint32_t j = s.partner[slot];
-        if (s.spring_of[slot] == kNoSpring || s.id[k] > s.id[j]) continue;
-        // A slot keeps a spring only while its pair touched at the last evaluation, whose
-        // positions these still are; the branch vectors are the ones it computed (the same
-        // expressions, pair_geometry), which the kernel stores only when the energies are
-        // tracked (their only other use): the checkpoint is the same either way.
-        TangentialSpring sp = s.spring_at(s.spring_of[slot]);
-        const PairGeometry g = pair_geometry(s, k, j, s.x[k] - s.x[j]);
-        sp.branch_i = g.r_i;
-        sp.branch_j = g.r_j;
-        if (sp.stiffness != 0.0 || sp.branch_i != Vec3::Zero()) {
-          put(ContactHistoryRecord::Kind::kParticlePair, s.id[k], s.id[j], sp);
-        }
-      }
-    }
-    for (const BoundaryRecord& r : s.records) {
-      put(ContactHistoryRecord::Kind::kParticleBoundary, s.id[r.particle], boundary_history_key(r.boundary, r.feature), r.spring);
+    for (const ContactHistoryRecord& c : own_contact_records(s)) {
+      pk.put(c.kind);
+      pk.put(c.id_a);
+      pk.put(c.id_b);
+      pk.put(c.spring);
     }
     for (const Bytes& block : m.comm->allgather(mine)) {
       Unpacker u(block);
@@ -53,28 +90,37 @@ EngineState FastEngine::save_state() const {
         state.contacts.push_back(c);
       }
     }
-    std::sort(state.contacts.begin(), state.contacts.end(), [](const auto& a, const auto& b) {
-      return std::tuple(a.kind, a.id_a, a.id_b) < std::tuple(b.kind, b.id_a, b.id_b);
-    });
+    sort_contact_records(state.contacts);
   }
-  state.accumulators = energies();
   {
     Bytes mine;
     Packer pk(mine);
-    for (std::size_t k = 0; k < s.owned; ++k) {
-      if (s.escaped_via[k] != 0) pk.put(s.id[k]);
-    }
+    for (const std::int64_t id : own_escaped_ids(s)) pk.put(id);
     for (const Bytes& block : m.comm->allgather(mine)) {
       Unpacker u(block);
       while (!u.done()) state.escaped_ids.push_back(u.get<std::int64_t>());
     }
   }
   std::sort(state.escaped_ids.begin(), state.escaped_ids.end());
-  if (m.loads_stale) m.sum_loads();
-  state.boundary_loads = m.loads;
-  state.contact_counts = contact_counts();
-  state.boundary_power = m.power;  // P(n), for the next trapezoid step of boundary_work
   return state;
+}
+
+// No gather: this rank's particles (construction order), histories and escaped ids.
+EngineStateShare FastEngine::save_state_share() const {
+  const Impl& m = *impl_;
+  const FastState& s = m.s;
+  EngineStateShare share;
+  share.state = global_state(*this, m);
+  share.total = m.total;
+  share.state.particles = owned_particles();
+  share.order.reserve(s.owned);
+  for (std::size_t k = 0; k < s.owned; ++k) share.order.push_back(s.original[k]);
+  std::sort(share.order.begin(), share.order.end());  // owned_particles() is in this order
+  share.state.contacts = own_contact_records(s);
+  sort_contact_records(share.state.contacts);
+  share.state.escaped_ids = own_escaped_ids(s);
+  std::sort(share.state.escaped_ids.begin(), share.state.escaped_ids.end());
+  return share;
 }
 
 void FastEngine::restore_state(const EngineState& state) {

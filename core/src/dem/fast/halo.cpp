@@ -4,18 +4,9 @@
 
 namespace ppohdem::dem::fast {
 
-namespace {
-
-/// Slack: bricks one part in 1e6 of the reach larger, so that the rounding of a brick face
-/// (relative 1e-16 of the coordinates) never hides a partner; extra ghosts cost nothing but
-/// memory (the list keeps only pairs within R_i + R_j + skin).
-double slack_of(double reach) { return 1e-6 * reach; }
-
-}  // namespace
-
 void FastEngine::Impl::update_peers() {
-  const double reach = 2.0 * r_max + skin;
-  peers = distributed() ? decomposition.peers(comm->rank(), reach, slack_of(reach)) : std::vector<int>{};
+  const double reach = halo_reach(r_max, skin);
+  peers = distributed() ? halo_peers(decomposition, comm->rank(), reach) : std::vector<int>{};
 }
 
 void FastEngine::Impl::make_ghosts() {
@@ -24,12 +15,11 @@ void FastEngine::Impl::make_ghosts() {
   halo_send.assign(ranks, {});
   halo_recv.assign(ranks, 0);
   if (!distributed()) return;
-  const double reach = 2.0 * r_max + skin;
-  const double slack = slack_of(reach);
+  const double reach = halo_reach(r_max, skin);
   std::vector<Bytes> to(ranks);
   for (std::size_t k = 0; k < s.owned; ++k) {
     for (std::size_t i = 0; i < ranks; ++i) {
-      if (decomposition.distance2(peers[i], s.x[k], slack) >= reach * reach) continue;
+      if (!in_halo(decomposition, peers[i], s.x[k], reach)) continue;
       halo_send[i].push_back(static_cast<std::uint32_t>(k));
       Packer p(to[i]);
       pack_particle(p, s, k);

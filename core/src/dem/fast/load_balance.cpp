@@ -64,6 +64,9 @@ LoadReport FastEngine::Impl::load_report() const {
     }
     return sum > 0.0 ? most / (sum / ranks) : 1.0;
   };
+  const auto ghosts = static_cast<double>(s.size() - s.owned);  // made at the last list build
+  r.ghosts_mean = comm->sum_over_ranks(ghosts) / ranks;
+  r.ghosts_max = comm->max_over_ranks(ghosts);
   r.max_over_mean = max_over_mean(0);
   r.equal_bricks_max_over_mean = max_over_mean(static_cast<std::size_t>(ranks));
   return r;

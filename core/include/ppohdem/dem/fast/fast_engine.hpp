@@ -95,6 +95,8 @@ struct LoadReport {
   long global_exchanges = 0;          ///< migrations that fell back to an all-rank exchange
   std::size_t peers = 0;              ///< ranks this rank exchanges with (at the last list build)
   long exchanges = 0;                 ///< halo refreshes, ghost creations and migrations so far
+  double ghosts_mean = 0.0;           ///< ghosts per rank (mean over the ranks, at the last list build)
+  double ghosts_max = 0.0;            ///< ghosts on the rank with the most
 };
 
 /// How fast the force kernel's threads ran against each other (a diagnostic: no result depends
@@ -159,6 +161,7 @@ class FastEngine final : public DemEngine {
   bool motion_finite() const override;
   std::vector<BoundaryLoad> boundary_loads() const override;
   EngineState save_state() const override;
+  EngineStateShare save_state_share() const override;
   void restore_state(const EngineState& state) override;
   /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): the whole state with
   /// the new particles appended is restored (a list build; collective with several ranks).
