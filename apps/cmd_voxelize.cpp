@@ -22,7 +22,6 @@
 #include "ppohdem/io/distance_dat.hpp"
 #include "ppohdem/io/legacy_inputs.hpp"
 #include "ppohdem/io/vtk_structured_points.hpp"
-#include "ppohdem/mesh/mesh_stats.hpp"
 #include "ppohdem/mesh/placement.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/provenance.hpp"
@@ -144,10 +143,23 @@ std::string method_label(const VoxelizeOptions& o) {
   return label.str();
 }
 
-// Warnings that do not depend on the builder: an open mesh, a mesh sticking out of the grid.
-void add_geometry_warnings(const TriangleMesh& mesh, const GridSpec& grid, const MeshStats& stats,
-                           SdfReport& report) {
-  (void)mesh;
+// What the warnings below need from the mesh. Not compute_mesh_stats(): its vertex welding and
+// edge sort would be a second serial pass over the topology, which the fast builder's sign
+// already makes (docs/performance.md "The whole voxelize process").
+struct GeometryFacts {
+  BoundingBox box;
+  std::size_t degenerate_triangles = 0;  // exactly zero area, as MeshStats counts them
+};
+
+GeometryFacts geometry_facts(const TriangleMesh& mesh) {
+  GeometryFacts facts;
+  facts.box = bounding_box(mesh);
+  for (const Triangle& t : mesh.triangles) facts.degenerate_triangles += t.area_vector() == Vec3::Zero() ? 1 : 0;
+  return facts;
+}
+
+// Warnings that do not depend on the builder: degenerate triangles, a mesh sticking out of the grid.
+void add_geometry_warnings(const GridSpec& grid, const GeometryFacts& stats, SdfReport& report) {
   BoundingBox grid_box;
   grid_box.expand(grid.origin);
   grid_box.expand(grid.upper_corner());
@@ -172,11 +184,10 @@ void print_summary(const GridSpec& grid, const TriangleMesh& mesh, const BuildRe
   for (const auto& o : outputs) std::printf("voxelize: wrote %s\n", o.c_str());
 }
 
-TriangleMesh read_mesh_checked(const fs::path& path, MeshStats* stats) {
+TriangleMesh read_mesh_checked(const fs::path& path) {
   StlReadReport read_report;
   TriangleMesh mesh = read_stl(path, &read_report);
   if (mesh.empty()) throw InputError(path.string(), 0, "the mesh has no triangles");
-  *stats = compute_mesh_stats(mesh);
   return mesh;
 }
 
@@ -197,8 +208,7 @@ fs::path resolve_legacy_base(const fs::path& input_file, const std::string& mesh
 // distance_NNNN.dat files for the same --ranks.
 void run_legacy_compat(const VoxelizeOptions& o, const VoxelizerInput& in, const fs::path& mesh_path,
                        const fs::path& out_dir) {
-  MeshStats stats_in;
-  const TriangleMesh raw = read_mesh_checked(mesh_path, &stats_in);
+  const TriangleMesh raw = read_mesh_checked(mesh_path);
   Placement placement;
   placement.size = in.object_size;
   placement.position = in.object_position;
@@ -231,20 +241,19 @@ void run_legacy(const VoxelizeOptions& o, const Comm& comm) {
     return;
   }
 
-  MeshStats stats_in;
-  const TriangleMesh raw = read_mesh_checked(mesh_path, &stats_in);
+  const TriangleMesh raw = read_mesh_checked(mesh_path);
   Placement placement;
   placement.size = in.object_size;
   placement.position = in.object_position;
   placement.mode = parse_placement_mode(o.placement_mode);
   const TriangleMesh mesh = place_mesh(raw, placement);
-  const MeshStats stats = compute_mesh_stats(mesh);
+  const GeometryFacts stats = geometry_facts(mesh);
   const GridSpec grid = GridSpec::ppohdem_legacy(in.length, in.voxels);
   grid.validate(input_file.string());
 
   BuildResult r = build_field(mesh, grid, o, comm);
   if (comm.rank() != 0) return;  // rank 0 holds the field and writes the files
-  add_geometry_warnings(mesh, grid, stats, r.report);
+  add_geometry_warnings(grid, stats, r.report);
 
   if (o.ranks > grid.nodes[0]) {
     throw InputError("--ranks " + std::to_string(o.ranks) + " exceeds the " + std::to_string(grid.nodes[0]) +
@@ -279,8 +288,7 @@ void run_modern(const VoxelizeOptions& o, const Comm& comm) {
   const fs::path out(o.out_vtk);
   check_writable_directory(out.has_parent_path() ? out.parent_path() : fs::path("."));
 
-  MeshStats stats;
-  TriangleMesh mesh = read_mesh_checked(o.mesh, &stats);
+  TriangleMesh mesh = read_mesh_checked(o.mesh);
   if (!o.placement.empty()) {
     if (o.placement.size() != 6) throw InputError("--placement: expected SX,SY,SZ,PX,PY,PZ (6 numbers)");
     Placement p;
@@ -288,14 +296,14 @@ void run_modern(const VoxelizeOptions& o, const Comm& comm) {
     p.position = Vec3(o.placement[3], o.placement[4], o.placement[5]);
     p.mode = parse_placement_mode(o.placement_mode);
     mesh = place_mesh(mesh, p);
-    stats = compute_mesh_stats(mesh);
   }
+  const GeometryFacts stats = geometry_facts(mesh);
   const GridSpec grid = GridSpec::spanning(Vec3(o.box[0], o.box[1], o.box[2]),
                                            Vec3(o.box[3], o.box[4], o.box[5]),
                                            {o.cells[0], o.cells[1], o.cells[2]});
   BuildResult r = build_field(mesh, grid, o, comm);
   if (comm.rank() != 0) return;  // rank 0 holds the field and writes the files
-  add_geometry_warnings(mesh, grid, stats, r.report);
+  add_geometry_warnings(grid, stats, r.report);
   write_vtk_structured_points(out, r.field, "distance", provenance_line(comm.size(), o.threads));
   print_summary(grid, mesh, r, method_label(o), {out.string()});
 }

@@ -6,7 +6,8 @@
 #   meshToVolume with a 3-voxel band and with a whole-grid band (time-boxed: "did not finish in
 #   N s"), on bunny_closed and dragon at 64^3, 128^3, 256^3, plus the open bunny at 64^3
 #   (compared with the reference's winding number: CGAL has no sign for an open mesh, and
-#   OpenVDB needs closed meshes).
+#   OpenVDB needs closed meshes); then ci/bench-sdf-process.sh: the whole `ppohdem voxelize`
+#   process against the CGAL oracle's at 128^3.
 # Writes  $BUILD/bench-sdf/results.tsv, docs/img/sdf_time_vs_error.png and prints the table,
 # the load average before and after (the machine may be shared) and the disk write bandwidth.
 # Oracle fields are cached in $BUILD/bench-sdf/cache between runs (the first run spends about
@@ -104,6 +105,10 @@ REFO=$CACHE/bunny_64_exact.f64
 record bunny 64 fast-2t 2 "$REFO" reference-exact 600 -- "$BENCH" run --method fast --threads 2 --mesh "$M" --n 64
 record bunny 64 fast-band3-2t 2 "$REFO" reference-exact 600 -- "$BENCH" run --method fast --threads 2 --band 3 --mesh "$M" --n 64
 record bunny 64 openvdb-band3 2 "$REFO" reference-exact 300 -- "$VDB" --band 3 --threads 2 --mesh "$M" --n 64
+
+# The whole `ppohdem voxelize` process against the CGAL oracle's, at 128^3 on the dragon
+# (issue 37; interleaved rounds, its own table).
+SIZES=128 bash "$ROOT/ci/bench-sdf-process.sh" "$BUILD"
 
 # Write bandwidth of this machine (the "physical view" in docs/performance.md).
 dd if=/dev/zero of="$OUT/dd.bin" bs=16M count=8 conv=fdatasync 2>"$OUT/dd.txt" || true

@@ -65,20 +65,22 @@ void expect_bound_below_brute_force(const char* name, double offset, double min_
     ASSERT_EQ(tree.nearest(p).squared_distance, all) << name;
     ASSERT_EQ(tree.nearest(p, pick(rng)).squared_distance, all) << name;
     ASSERT_EQ(aligned_tree.nearest(p, pick(rng)).squared_distance, all) << name;
-    // Packets (TriangleTree::nearest_packet): 4 x 2 neighbours of p (as the grid rows are
+    // Packets (TriangleTree::nearest_packet): 4 x 4 neighbours of p (as the grid rows are
     // queried) and, from the packets of 3 points on, one point anywhere (paths that part early);
     // each point's result must be its brute-force minimum and the lowest index among equally
-    // near triangles (the tie rule of every traversal), with AVX-512 (8 points per traversal),
-    // AVX (4) and SSE2 (2 lanes), whatever the hints and the packet's size.
+    // near triangles (the tie rule of every traversal), with AVX-512 (16 points per traversal in
+    // two registers from 9 points on, 8 in one), AVX (4) and SSE2 (2 lanes), whatever the hints
+    // and the packet's size.
     const double step = 0.02 * half.norm();
     constexpr int kPacket = fast::TriangleTree::kPacket;
-    static_assert(kPacket == 8);
+    static_assert(kPacket == 16);
     Vec3 points[kPacket];
     for (int c = 0; c < kPacket; ++c) {
-      points[c] = p + Vec3(0.0, step * (c % 2 + 2 * (c / 4)), step * ((c / 2) % 2));
+      points[c] = p + Vec3(0.0, step * (c % 2 + 2 * ((c / 4) % 2)), step * ((c / 2) % 2 + 2 * (c / 8)));
     }
     points[2] = centre + Vec3(unit(rng) * half.x(), unit(rng) * half.y(), unit(rng) * half.z());
     if (q % 4 == 1) points[6] = centre + Vec3(unit(rng) * half.x(), unit(rng) * half.y(), unit(rng) * half.z());
+    if (q % 4 == 3) points[13] = centre + Vec3(unit(rng) * half.x(), unit(rng) * half.y(), unit(rng) * half.z());
     std::pair<double, std::uint32_t> expected[kPacket];
     for (int c = 0; c < kPacket; ++c) {
       expected[c] = {std::numeric_limits<double>::infinity(), 0};

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ppohdem/grid/grid_spec.hpp"
@@ -14,11 +15,17 @@
 
 namespace ppohdem::bench {
 
-inline GridSpec benchmark_grid(const TriangleMesh& mesh, int n) {
+/// The cube's corners (lo, hi): what `ppohdem voxelize --box` takes for the same grid.
+inline std::pair<Vec3, Vec3> benchmark_box(const TriangleMesh& mesh) {
   const BoundingBox box = bounding_box(mesh);
   const double half = 0.55 * box.extent().maxCoeff();
   const Vec3 c = box.centre();
-  return GridSpec::spanning(c - Vec3::Constant(half), c + Vec3::Constant(half), {n, n, n});
+  return {c - Vec3::Constant(half), c + Vec3::Constant(half)};
+}
+
+inline GridSpec benchmark_grid(const TriangleMesh& mesh, int n) {
+  const auto [lo, hi] = benchmark_box(mesh);
+  return GridSpec::spanning(lo, hi, {n, n, n});
 }
 
 inline void write_raw(const std::string& path, const std::vector<double>& values) {

@@ -9,9 +9,13 @@
 ///       the work counters (exact/transferred nodes, candidate tests, distance evaluations per
 ///       node). --band W: the fast builder's band mode (exact within W h); --shared 1: its
 ///       shared-candidate scheme for the exact nodes.
-///   ppohdem-bench-sdf compare --mesh M.stl --n N --candidate c.f64 --oracle o.f64 [--band B]
+///   ppohdem-bench-sdf compare --mesh M.stl --n N --candidate c.f64|c.vtk --oracle o.f64 [--band B]
 ///       prints max/RMS |error| in h over all nodes and over the band |oracle| < B h (default 3),
 ///       and sign mismatches (nodes with |oracle| > 1e-9 h whose sign differs).
+///   ppohdem-bench-sdf box --mesh M.stl
+///       prints the benchmark grid's box as `ppohdem voxelize --box` takes it (xmin ymin zmin
+///       xmax ymax zmax, shortest round-trip text), so that `--cells N N N --box ...` is the
+///       same grid, bit for bit (ci/bench-sdf-process.sh).
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -20,6 +24,7 @@
 #include <string>
 
 #include "bench_grid.hpp"
+#include "ppohdem/io/vtk_structured_points.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/sdf/reference/builders.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
@@ -102,7 +107,14 @@ int compare(const std::map<std::string, std::string>& args) {
   const TriangleMesh mesh = read_stl(need(args, "mesh"));
   const GridSpec grid = bench::benchmark_grid(mesh, std::stoi(need(args, "n")));
   ScalarField candidate(grid), oracle(grid);
-  candidate.values = bench::read_raw(need(args, "candidate"), grid.node_count());
+  const std::string candidate_path = need(args, "candidate");
+  if (candidate_path.ends_with(".vtk")) {  // `ppohdem voxelize --out` on the same grid
+    ScalarField read = read_vtk_structured_points(candidate_path);
+    if (read.grid.nodes != grid.nodes) throw std::runtime_error(candidate_path + ": not the benchmark grid");
+    candidate.values = std::move(read.values);
+  } else {
+    candidate.values = bench::read_raw(candidate_path, grid.node_count());
+  }
   oracle.values = bench::read_raw(need(args, "oracle"), grid.node_count());
   const double band = std::stod(get(args, "band", "3"));
   const FieldComparison c = compare_fields(candidate, oracle, band, 1e-9);
@@ -113,15 +125,23 @@ int compare(const std::map<std::string, std::string>& args) {
   return 0;
 }
 
+int box(const std::map<std::string, std::string>& args) {
+  const TriangleMesh mesh = read_stl(need(args, "mesh"));
+  const auto [lo, hi] = bench::benchmark_box(mesh);
+  std::printf("%.17g %.17g %.17g %.17g %.17g %.17g\n", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 2) throw std::runtime_error("usage: ppohdem-bench-sdf run|compare --key value ...");
+    if (argc < 2) throw std::runtime_error("usage: ppohdem-bench-sdf run|compare|box --key value ...");
     const std::string mode = argv[1];
     const auto args = parse(argc, argv, 2);
     if (mode == "run") return run(args);
     if (mode == "compare") return compare(args);
+    if (mode == "box") return box(args);
     throw std::runtime_error("unknown mode " + mode);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ppohdem-bench-sdf: error: %s\n", e.what());

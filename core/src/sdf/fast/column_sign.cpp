@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
+#include <limits>
 #include <cmath>
 #include <numbers>
 #include <tuple>
-#include <unordered_map>
 
 #include "ppohdem/sdf/fast/exact_orient2d.hpp"
 
@@ -15,37 +17,56 @@ namespace ppohdem::sdf::fast {
 
 namespace {
 
-/// Key of a welded vertex: the coordinates' bits, with -0.0 turned into +0.0 (adding +0.0 does it).
+/// The coordinates' bits of a vertex, with -0.0 turned into +0.0 (adding +0.0 does it): equal
+/// keys are equal points (the coordinates are finite: check_inputs()).
 struct VertexKey {
-  double x, y, z;
+  std::uint64_t x, y, z;
   bool operator==(const VertexKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
-struct VertexKeyHash {
-  std::size_t operator()(const VertexKey& k) const {
-    const std::hash<double> h;
-    return h(k.x) ^ (h(k.y) * 0x9e3779b97f4a7c15ULL) ^ (h(k.z) * 0xc2b2ae3d27d4eb4fULL);
-  }
-};
+
+VertexKey key_of(const Vec3& v) {
+  return {std::bit_cast<std::uint64_t>(v.x() + 0.0), std::bit_cast<std::uint64_t>(v.y() + 0.0),
+          std::bit_cast<std::uint64_t>(v.z() + 0.0)};
+}
+
+std::uint64_t mix(std::uint64_t h) {  // splitmix64's finaliser
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+  return h ^ (h >> 31);
+}
 
 struct WeldedSoup {
   std::vector<Vec3> vertices;
   std::vector<std::array<std::uint32_t, 3>> faces;
 };
 
+/// Vertex ids in order of first appearance. An open-addressing table (linear probing, at most
+/// half full) instead of a node-based std::unordered_map: one probe per corner mostly, and no
+/// allocation per vertex (docs/performance.md "The whole voxelize process").
 WeldedSoup weld(const TriangleMesh& mesh) {
   WeldedSoup soup;
-  std::unordered_map<VertexKey, std::uint32_t, VertexKeyHash> id;
-  id.reserve(mesh.size());
-  soup.faces.reserve(mesh.size());
-  for (const Triangle& t : mesh.triangles) {
-    std::array<std::uint32_t, 3> f{};
+  constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+  std::size_t size = 16;
+  while (size < 6 * mesh.size()) size *= 2;  // > 2 x the corners: at most half full
+  const std::size_t mask = size - 1;
+  std::vector<std::uint32_t> slot(size, kEmpty);  // a vertex id, or kEmpty
+  std::vector<VertexKey> keys;
+  keys.reserve(mesh.size());
+  soup.vertices.reserve(mesh.size());
+  soup.faces.resize(mesh.size());
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
     for (std::size_t c = 0; c < 3; ++c) {
-      const VertexKey key{t.v[c].x() + 0.0, t.v[c].y() + 0.0, t.v[c].z() + 0.0};
-      const auto [it, inserted] = id.try_emplace(key, static_cast<std::uint32_t>(soup.vertices.size()));
-      if (inserted) soup.vertices.push_back(t.v[c]);
-      f[c] = it->second;
+      const Vec3& v = mesh.triangles[t].v[c];
+      const VertexKey key = key_of(v);
+      std::size_t at = mix(key.x ^ mix(key.y ^ mix(key.z))) & mask;
+      while (slot[at] != kEmpty && !(keys[slot[at]] == key)) at = (at + 1) & mask;
+      if (slot[at] == kEmpty) {
+        slot[at] = static_cast<std::uint32_t>(soup.vertices.size());
+        keys.push_back(key);
+        soup.vertices.push_back(v);
+      }
+      soup.faces[t][c] = slot[at];
     }
-    soup.faces.push_back(f);
   }
   return soup;
 }
@@ -57,17 +78,39 @@ struct EdgeUse {
   bool operator<(const EdgeUse& o) const { return std::tie(low, high, forward) < std::tie(o.low, o.high, o.forward); }
 };
 
+/// The order of std::sort by (low, high, forward), made as a counting sort by `low` and a sort of
+/// each vertex's uses, mostly a few (equal uses are identical, so the order is unique).
 std::vector<EdgeUse> edge_uses(const WeldedSoup& soup) {
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * soup.faces.size());
+  std::vector<std::uint32_t> start(soup.vertices.size() + 1, 0);
+  for (const auto& f : soup.faces) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t from = f[c], to = f[(c + 1) % 3];
+      if (from != to) ++start[std::min(from, to) + 1];
+    }
+  }
+  for (std::size_t v = 0; v + 1 < start.size(); ++v) start[v + 1] += start[v];
+  std::vector<EdgeUse> uses(start.back());
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
   for (const auto& f : soup.faces) {
     for (std::size_t c = 0; c < 3; ++c) {
       const std::uint32_t from = f[c], to = f[(c + 1) % 3];
       if (from == to) continue;  // collapsed edge of a degenerate triangle
-      uses.push_back({std::min(from, to), std::max(from, to), from < to});
+      const std::uint32_t low = std::min(from, to);
+      uses[next[low]++] = {low, std::max(from, to), from < to};
     }
   }
-  std::sort(uses.begin(), uses.end());
+  for (std::size_t v = 0; v + 1 < start.size(); ++v) {
+    if (start[v + 1] - start[v] > 16) {  // a vertex of high valence (a fan's centre): n log n
+      std::sort(uses.begin() + start[v], uses.begin() + start[v + 1]);
+      continue;
+    }
+    for (std::uint32_t s = start[v] + 1; s < start[v + 1]; ++s) {
+      const EdgeUse use = uses[s];
+      std::uint32_t at = s;
+      for (; at > start[v] && use < uses[at - 1]; --at) uses[at] = uses[at - 1];
+      uses[at] = use;
+    }
+  }
   return uses;
 }
 

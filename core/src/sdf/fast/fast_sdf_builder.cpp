@@ -10,6 +10,9 @@
 #include <limits>
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <functional>
+#include <optional>
 
 #include "ppohdem/error.hpp"
 #include "ppohdem/sdf/fast/brick_distance.hpp"
@@ -46,6 +49,47 @@ void check_inputs(const TriangleMesh& mesh, const GridSpec& grid) {
   if (columns >= (std::size_t{1} << 32)) throw InputError(who + ": more than 2^32 grid columns (nx * ny)");
 }
 
+// The tree and the column crossings are independent: with threads, the crossings are one task
+// and the tree's large subtrees others (the serial setup weighs most at small grids:
+// docs/performance.md "The whole voxelize process"). Both are the same as built serially.
+// `alongside` (e.g. sizing the output) is one more task.
+void build_tree_and_sign(const TriangleMesh& mesh, const GridSpec& grid, double coordinate_scale, bool oriented_boxes,
+                         int threads, std::optional<TriangleTree>& tree, std::optional<ColumnSign>& sign,
+                         const std::function<void()>& alongside) {
+#if defined(PPOHDEM_WITH_OPENMP)
+  std::exception_ptr sign_error, tree_error, alongside_error;  // an exception may not leave a task
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
+#pragma omp single
+  {
+#pragma omp task default(shared)
+    try {
+      sign.emplace(mesh, grid);
+    } catch (...) {
+      sign_error = std::current_exception();
+    }
+#pragma omp task default(shared)
+    try {
+      alongside();
+    } catch (...) {
+      alongside_error = std::current_exception();
+    }
+    try {
+      tree.emplace(mesh, coordinate_scale, oriented_boxes);
+    } catch (...) {
+      tree_error = std::current_exception();
+    }
+  }
+  if (tree_error) std::rethrow_exception(tree_error);
+  if (sign_error) std::rethrow_exception(sign_error);
+  if (alongside_error) std::rethrow_exception(alongside_error);
+#else
+  (void)threads;
+  tree.emplace(mesh, coordinate_scale, oriented_boxes);
+  sign.emplace(mesh, grid);
+  alongside();
+#endif
+}
+
 }  // namespace
 
 SlabRange slab_of_rank(int nz, int rank, int ranks) {
@@ -57,13 +101,13 @@ SlabRange slab_of_rank(int nz, int rank, int ranks) {
 
 template <typename T>
 void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab,
-                                     std::span<T> out, SdfReport* report) const {
+                                     std::span<T> out, std::vector<T>* sized, SdfReport* report) const {
   check_inputs(mesh, grid);
   if (slab.k_begin < 0 || slab.k_end > grid.nodes[2] || slab.k_begin > slab.k_end) {
     throw InputError("fast SDF builder: slab [" + std::to_string(slab.k_begin) + ", " + std::to_string(slab.k_end) +
                      ") is not within the grid's " + std::to_string(grid.nodes[2]) + " z-planes");
   }
-  if (out.size() != slab.node_count(grid)) {
+  if (sized == nullptr && out.size() != slab.node_count(grid)) {
     throw InputError("fast SDF builder: output holds " + std::to_string(out.size()) + " values, the slab has " +
                      std::to_string(slab.node_count(grid)) + " nodes");
   }
@@ -78,8 +122,15 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
   // Oriented boxes pay off when every node makes a tree query (exact mode), not for the few
   // brick-centre queries of band mode, where fitting them costs more than they save
   // (docs/performance.md "How the fast builder works"). The field is the same either way.
-  const fast::TriangleTree tree(mesh, coordinate_scale, /*oriented_boxes=*/!band_mode);
-  const fast::ColumnSign sign(mesh, grid);
+  std::optional<fast::TriangleTree> tree_storage;
+  std::optional<fast::ColumnSign> sign_storage;
+  build_tree_and_sign(mesh, grid, coordinate_scale, /*oriented_boxes=*/!band_mode, options_.threads, tree_storage,
+                      sign_storage, [&] {
+                        if (sized != nullptr) sized->resize(slab.node_count(grid));
+                      });
+  if (sized != nullptr) out = std::span<T>(*sized);
+  const fast::TriangleTree& tree = *tree_storage;
+  const fast::ColumnSign& sign = *sign_storage;
   const double band = band_mode ? options_.band_cells * grid.spacing.maxCoeff() : std::numeric_limits<double>::infinity();
   const fast::BrickDistance bricks(tree, grid, band, options_.shared_candidates);
 
@@ -223,18 +274,29 @@ void FastSdfBuilder::build_slab_impl(const TriangleMesh& mesh, const GridSpec& g
 
 void FastSdfBuilder::build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab,
                                 std::span<double> out, SdfReport* report) const {
-  build_slab_impl(mesh, grid, slab, out, report);
+  build_slab_impl<double>(mesh, grid, slab, out, nullptr, report);
 }
 
 void FastSdfBuilder::build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab,
                                 std::span<float> out, SdfReport* report) const {
-  build_slab_impl(mesh, grid, slab, out, report);
+  build_slab_impl<float>(mesh, grid, slab, out, nullptr, report);
+}
+
+void FastSdfBuilder::build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab,
+                                std::vector<double>& out, SdfReport* report) const {
+  build_slab_impl<double>(mesh, grid, slab, {}, &out, report);
+}
+
+void FastSdfBuilder::build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab,
+                                std::vector<float>& out, SdfReport* report) const {
+  build_slab_impl<float>(mesh, grid, slab, {}, &out, report);
 }
 
 ScalarField FastSdfBuilder::build(const TriangleMesh& mesh, const GridSpec& grid, SdfReport* report) const {
   check_inputs(mesh, grid);
-  ScalarField phi(grid);
-  build_slab(mesh, grid, {0, grid.nodes[2]}, std::span<double>(phi.values), report);
+  ScalarField phi;
+  phi.grid = grid;
+  build_slab(mesh, grid, {0, grid.nodes[2]}, phi.values, report);
   return phi;
 }
 
@@ -249,9 +311,9 @@ std::vector<T> build_distributed(const FastSdfBuilder& builder, const Comm& comm
                                  const GridSpec& grid, SdfReport* report) {
   check_inputs(mesh, grid);
   const SlabRange slab = slab_of_rank(grid.nodes[2], comm.rank(), comm.size());
-  std::vector<T> local(slab.node_count(grid));
+  std::vector<T> local;
   SdfReport local_report;
-  builder.build_slab(mesh, grid, slab, std::span<T>(local), &local_report);
+  builder.build_slab(mesh, grid, slab, local, &local_report);
   const double negatives = comm.sum_over_ranks(local_report.inside_fraction * static_cast<double>(local.size()));
   if (report != nullptr && comm.rank() == 0) {
     report->warnings.insert(report->warnings.end(), local_report.warnings.begin(), local_report.warnings.end());

@@ -12,6 +12,9 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(PPOHDEM_WITH_OPENMP)
+#include <omp.h>
+#endif
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define PPOHDEM_PACKET_AVX 1  // the AVX and AVX-512 packet traversals, chosen at run time
@@ -35,6 +38,10 @@ constexpr std::uint32_t kOrientedMaxTriangles = 1024;
 /// queries, the median split's cheaper build wins (docs/performance.md "Surface-area-heuristic
 /// split" and "Trials that were dropped").
 constexpr int kSahBins = 32;
+/// Subtrees of at least this many triangles are built as OpenMP tasks (in a parallel region): 8
+/// tasks of about 12,500 triangles for the 100,000 of the dragon, each copied into its parent's
+/// node array 3 times, which costs far less than the build.
+constexpr std::uint32_t kTaskMinTriangles = 16384;
 /// Below this depth the split is the SAH's, deeper the median's (a bound on the tree's depth for
 /// the traversals' fixed stacks of 128 entries: at most 48 + log2(n) levels).
 constexpr int kSahMaxDepth = 48;
@@ -141,6 +148,13 @@ struct TriangleTree::BuildInput {
   std::vector<std::uint32_t> scratch;
 };
 
+/// The nodes of a subtree in depth-first order, numbered from 0 (internal nodes' `first` is the
+/// index of the right child within the subtree; leaves' `first` indexes BuildInput::order).
+struct TriangleTree::BuildOutput {
+  std::vector<Node> nodes;
+  std::vector<OrientedNode> oriented;  ///< parallel to nodes (if oriented)
+};
+
 TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bool oriented_boxes)
     : oriented_boxes_(oriented_boxes) {
   const std::size_t n = mesh.size();
@@ -164,14 +178,28 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bo
   // far below any grid spacing worth computing.
   // Query points far from the mesh round at their own scale: the larger of the two counts.
   slack_ = 1e-12 * std::max({scale, std::abs(coordinate_scale), 1e-300});
-  nodes_.reserve(2 * n / kLeafSize + 2);
-  if (oriented_boxes_) oriented_.reserve(2 * n / kLeafSize + 2);
-  if (n > 0) build(in, 0, static_cast<std::uint32_t>(n), 0);
-  triangles_.reserve(n);
-  for (std::uint32_t t : in.order) triangles_.push_back(prepare_triangle(mesh.triangles[t], t));
+  BuildOutput out;
+  out.nodes.reserve(2 * n / kLeafSize + 2);
+  if (oriented_boxes_) out.oriented.reserve(2 * n / kLeafSize + 2);
+  if (n > 0) build(in, out, 0, static_cast<std::uint32_t>(n), 0);
+  nodes_ = std::move(out.nodes);
+  oriented_ = std::move(out.oriented);
+  // The loops below as tasks too (taskloop: serial outside a parallel region).
+  triangles_.resize(n);
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp taskloop grainsize(8192) default(shared)
+#endif
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t t = in.order[s];
+    triangles_[s] = prepare_triangle(mesh.triangles[t], t);
+  }
   if (!oriented_boxes_) return;
   pairs_.resize(nodes_.size());
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+  const std::size_t node_count = nodes_.size();
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp taskloop grainsize(8192) default(shared)
+#endif
+  for (std::size_t i = 0; i < node_count; ++i) {
     if (nodes_[i].count > 0) continue;
     const OrientedNode* child[2] = {&oriented_[i + 1], &oriented_[nodes_[i].first]};
     for (int c = 0; c < 2; ++c) {
@@ -260,8 +288,9 @@ std::uint32_t sah_split(std::vector<std::uint32_t>& order, std::vector<std::uint
   }
   if (best_axis < 0) return begin;
   // Stable partition written out (the tree does not depend on the library's algorithm).
+  // scratch[begin, end) only: subtrees built at the same time use disjoint ranges.
   std::uint32_t left = begin;
-  std::size_t right = 0;
+  std::uint32_t right = begin;
   for (std::uint32_t s = begin; s < end; ++s) {
     const std::uint32_t t = order[s];
     if (bin_of(centroid[t][best_axis], best_axis) <= best_bin) {
@@ -270,19 +299,20 @@ std::uint32_t sah_split(std::vector<std::uint32_t>& order, std::vector<std::uint
       scratch[right++] = t;
     }
   }
-  std::copy(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(right), order.begin() + left);
+  std::copy(scratch.begin() + begin, scratch.begin() + right, order.begin() + left);
   return left;
 }
 
 }  // namespace
 
-std::uint32_t TriangleTree::build(BuildInput& in, std::uint32_t begin, std::uint32_t end, int depth) {
+std::uint32_t TriangleTree::build(BuildInput& in, BuildOutput& out, std::uint32_t begin, std::uint32_t end,
+                                  int depth) {
   const std::vector<std::uint32_t>& order = in.order;
   const std::vector<Vec3>& centroid = in.centroid;
   const std::vector<Triangle>& input = in.input;
-  const auto index = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.emplace_back();
-  if (oriented_boxes_) oriented_.emplace_back();
+  const auto index = static_cast<std::uint32_t>(out.nodes.size());
+  out.nodes.emplace_back();
+  if (oriented_boxes_) out.oriented.emplace_back();
   Node node;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 hi = -lo;
@@ -308,8 +338,8 @@ std::uint32_t TriangleTree::build(BuildInput& in, std::uint32_t begin, std::uint
   if (end - begin <= static_cast<std::uint32_t>(kLeafSize)) {
     node.first = begin;
     node.count = end - begin;
-    nodes_[index] = node;
-    fit_oriented_box(input, order, begin, end, index);
+    out.nodes[index] = node;
+    fit_oriented_box(input, order, begin, end, index, out);
     return index;
   }
   // SAH split (kSahBins); the median split along the longest centroid extent where the SAH has
@@ -324,19 +354,53 @@ std::uint32_t TriangleTree::build(BuildInput& in, std::uint32_t begin, std::uint
     if (extent.z() > extent[axis]) axis = 2;
     middle = median_split(in.order, centroid, begin, end, axis);
   }
-  build(in, begin, middle, depth + 1);
-  node.first = build(in, middle, end, depth + 1);
+  bool as_tasks = false;
+#if defined(PPOHDEM_WITH_OPENMP)
+  as_tasks = end - begin >= kTaskMinTriangles && omp_in_parallel();
+#endif
+  if (as_tasks) {
+    // The left subtree as a task, the right one here; both then appended in depth-first order,
+    // so the tree is the one the serial build makes.
+    BuildOutput left, right;
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp task default(shared)
+#endif
+    build(in, left, begin, middle, depth + 1);
+    build(in, right, middle, end, depth + 1);
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp taskwait
+#endif
+    append_subtree(out, left);
+    node.first = static_cast<std::uint32_t>(out.nodes.size());
+    append_subtree(out, right);
+  } else {
+    build(in, out, begin, middle, depth + 1);
+    node.first = build(in, out, middle, end, depth + 1);
+  }
   node.count = 0;
-  nodes_[index] = node;
-  fit_oriented_box(input, order, begin, end, index);
+  out.nodes[index] = node;
+  fit_oriented_box(input, order, begin, end, index, out);
   return index;
 }
 
+void TriangleTree::append_subtree(BuildOutput& out, const BuildOutput& subtree) const {
+  const auto offset = static_cast<std::uint32_t>(out.nodes.size());
+  for (Node n : subtree.nodes) {
+    if (n.count == 0) n.first += offset;  // an internal node's right child
+    out.nodes.push_back(n);
+  }
+  for (OrientedNode n : subtree.oriented) {
+    if (n.count == 0) n.first += offset;
+    out.oriented.push_back(n);
+  }
+}
+
 void TriangleTree::fit_oriented_box(const std::vector<Triangle>& input, const std::vector<std::uint32_t>& order,
-                                    std::uint32_t begin, std::uint32_t end, std::uint32_t index) {
+                                    std::uint32_t begin, std::uint32_t end, std::uint32_t index,
+                                    BuildOutput& output) const {
   if (!oriented_boxes_) return;
-  const Node& node = nodes_[index];
-  OrientedNode& out = oriented_[index];
+  const Node& node = output.nodes[index];
+  OrientedNode& out = output.oriented[index];
   out.first = node.first;
   out.count = node.count;
   // Default: the identity frame, whose box is the axis-aligned one (then the query's bound is
@@ -765,6 +829,62 @@ struct LanesAvx512 {
   }
 };
 
+/// 16 lanes in two AVX-512 registers: a packet of 4 x 4 rows shares one traversal, which at
+/// coarse grids (nodes 2 h apart and more) costs fewer instructions per node than two packets of
+/// 8 (docs/performance.md "The whole voxelize process"). The same operations per lane.
+struct LanesAvx512Pair {
+  static constexpr int kWidth = 16;
+  struct V {
+    __m512d r[2];
+  };
+  using M = std::uint32_t;  ///< bit c: lane c (register c / 8, lane c % 8)
+#define PPOHDEM_PAIR __attribute__((target("avx512f"), always_inline)) static inline
+#define PPOHDEM_PAIR_EACH(expr) \
+  V out;                        \
+  for (int i = 0; i < 2; ++i) out.r[i] = (expr); \
+  return out
+  PPOHDEM_PAIR V set1(double x) { PPOHDEM_PAIR_EACH(_mm512_set1_pd(x)); }
+  PPOHDEM_PAIR V load(const double* x) { PPOHDEM_PAIR_EACH(_mm512_loadu_pd(x + 8 * i)); }
+  PPOHDEM_PAIR void store(double* x, V v) {
+    for (int i = 0; i < 2; ++i) _mm512_storeu_pd(x + 8 * i, v.r[i]);
+  }
+  PPOHDEM_PAIR V zero() { PPOHDEM_PAIR_EACH(_mm512_setzero_pd()); }
+  PPOHDEM_PAIR V add(V x, V y) { PPOHDEM_PAIR_EACH(_mm512_add_pd(x.r[i], y.r[i])); }
+  PPOHDEM_PAIR V sub(V x, V y) { PPOHDEM_PAIR_EACH(_mm512_sub_pd(x.r[i], y.r[i])); }
+  PPOHDEM_PAIR V mul(V x, V y) { PPOHDEM_PAIR_EACH(_mm512_mul_pd(x.r[i], y.r[i])); }
+  // maskz_ forms with every lane, as LanesAvx512.
+  PPOHDEM_PAIR V max(V x, V y) { PPOHDEM_PAIR_EACH(_mm512_maskz_max_pd(0xFF, x.r[i], y.r[i])); }
+  PPOHDEM_PAIR V div(V x, V y) { PPOHDEM_PAIR_EACH(_mm512_maskz_div_pd(0xFF, x.r[i], y.r[i])); }
+  PPOHDEM_PAIR M le(V x, V y) {
+    return static_cast<M>(_mm512_cmp_pd_mask(x.r[0], y.r[0], _CMP_LE_OQ)) |
+           static_cast<M>(_mm512_cmp_pd_mask(x.r[1], y.r[1], _CMP_LE_OQ)) << 8;
+  }
+  PPOHDEM_PAIR M lt(V x, V y) {
+    return static_cast<M>(_mm512_cmp_pd_mask(x.r[0], y.r[0], _CMP_LT_OQ)) |
+           static_cast<M>(_mm512_cmp_pd_mask(x.r[1], y.r[1], _CMP_LT_OQ)) << 8;
+  }
+  PPOHDEM_PAIR M both(M x, M y) { return x & y; }
+  PPOHDEM_PAIR M either(M x, M y) { return x | y; }
+  PPOHDEM_PAIR M but(M x, M y) { return x & ~y; }
+  PPOHDEM_PAIR unsigned bits(M m) { return m; }
+  PPOHDEM_PAIR V select(M m, V x, V y) {
+    PPOHDEM_PAIR_EACH(_mm512_mask_blend_pd(static_cast<__mmask8>(m >> (8 * i)), y.r[i], x.r[i]));
+  }
+  PPOHDEM_PAIR V set_lane(V v, int c, double x) {
+    v.r[c / 8] = _mm512_mask_mov_pd(v.r[c / 8], static_cast<__mmask8>(1u << (c % 8)), _mm512_set1_pd(x));
+    return v;
+  }
+  PPOHDEM_PAIR double sum(M m, V v) {  // only orders the traversal: any summation order will do
+    const __m512d s = _mm512_add_pd(_mm512_maskz_mov_pd(static_cast<__mmask8>(m), v.r[0]),
+                                    _mm512_maskz_mov_pd(static_cast<__mmask8>(m >> 8), v.r[1]));
+    double t[8];
+    _mm512_storeu_pd(t, s);
+    return ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]));
+  }
+#undef PPOHDEM_PAIR_EACH
+#undef PPOHDEM_PAIR
+};
+
 /// From this many points within a triangle's box on, their distances are computed in lanes: from
 /// 1 or 2 points on they are equally fast, from 3 on slower (docs/performance.md "Trials that
 /// were dropped").
@@ -784,6 +904,13 @@ using L = LanesAvx512;
 #include "refine_lanes.inc"
 #undef PPOHDEM_LANES_TARGET
 }  // namespace avx512
+
+namespace avx512_pair {
+using L = LanesAvx512Pair;
+#define PPOHDEM_LANES_TARGET "avx512f"
+#include "refine_lanes.inc"
+#undef PPOHDEM_LANES_TARGET
+}  // namespace avx512_pair
 
 #endif
 
@@ -818,13 +945,18 @@ void TriangleTree::nearest_packet(const Vec3* p, const std::int64_t* hint, int c
   // The narrower of the requested and the available instruction sets (enumerators widest first).
   const PacketSimd available = packet_simd_available();
   const PacketSimd use = simd == PacketSimd::best ? available : std::max(simd, available);
-  // Up to 4 points per traversal below AVX-512: the first 4, then the others.
+  // Up to 16 points per traversal with AVX-512 (two registers from 9 points on), 4 below it:
+  // the first 4, then the next 4, ...
   for (int first = 0; first < count;) {
-    const int n = std::min(count - first, use == PacketSimd::avx512 ? 8 : 4);
+    const int n = std::min(count - first, use == PacketSimd::avx512 ? 16 : 4);
     const Vec3* q = p + first;
     Nearest* o = out + first;
     first += n;
 #if defined(PPOHDEM_PACKET_AVX)
+    if (use == PacketSimd::avx512 && n > 8) {
+      avx512_pair::refine_lanes(oriented_.data(), pairs_.data(), triangles_, slack_, q, n, o);
+      continue;
+    }
     if (use == PacketSimd::avx512 && n > 1) {
       avx512::refine_lanes(oriented_.data(), pairs_.data(), triangles_, slack_, q, n, o);
       continue;

@@ -83,11 +83,18 @@ class FastSdfBuilder final : public SdfBuilder {
                   SdfReport* report = nullptr) const;
   void build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab, std::span<float> out,
                   SdfReport* report = nullptr) const;
+  /// The same into `out`, which is sized to the slab while the tree is built (its zeroing and
+  /// first page faults then overlap the setup instead of preceding it).
+  void build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab, std::vector<double>& out,
+                  SdfReport* report = nullptr) const;
+  void build_slab(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab, std::vector<float>& out,
+                  SdfReport* report = nullptr) const;
 
  private:
+  /// `sized`: if not null, `out` is ignored and the output is *sized, resized during the setup.
   template <typename T>
   void build_slab_impl(const TriangleMesh& mesh, const GridSpec& grid, SlabRange slab, std::span<T> out,
-                       SdfReport* report) const;
+                       std::vector<T>* sized, SdfReport* report) const;
   FastSdfOptions options_;
 };
 

@@ -39,8 +39,8 @@
 /// 4-wide nodes tried instead took fewer instructions but no less time: "Trials that were
 /// dropped").
 ///
-/// Lanes: one point per SIMD lane, 8 points (4 x 2 rows) per traversal in AVX-512,
-/// 4 in AVX (an 8-point packet then takes two traversals of 2 x 2). Both children's bounds of all
+/// Lanes: one point per SIMD lane, 16 points (4 x 4 rows) per traversal in two AVX-512
+/// registers, 4 in AVX (a 16-point packet then takes four traversals of 2 x 2). Both children's bounds of all
 /// points are whole-register operations, the masks of the points within their bounds are register
 /// compares, a pending node keeps one register of bounds (NaN where a point is not active), a
 /// lowered bound is blended into its lane (reloading it from memory stalled on the store), and the
@@ -87,6 +87,8 @@ class TriangleTree {
   /// `oriented_boxes`: fit oriented boxes to the lower levels (fewer boxes opened per query, a
   /// dearer build: worth it when every node of a grid is queried, not in band mode);
   /// without, the query measures the axis-aligned boxes. The results are the same either way.
+  /// Constructed inside an OpenMP parallel region (by one thread), the large subtrees are built
+  /// as tasks; the tree is the same node for node.
   explicit TriangleTree(const TriangleMesh& mesh, double coordinate_scale = 0.0, bool oriented_boxes = true);
 
   /// A BVH node, depth-first order (the root is 0).
@@ -129,7 +131,7 @@ class TriangleTree {
   /// only speeds the search up; the result does not depend on it.
   Nearest nearest(const Vec3& p, std::int64_t hint = -1) const;
   /// Points per packet of nearest_packet() at most.
-  static constexpr int kPacket = 8;
+  static constexpr int kPacket = 16;
   /// The instruction sets of nearest_packet(), widest first; `best`: the widest the CPU has.
   enum class PacketSimd { best, avx512, avx, sse2 };
   /// The widest of them this CPU runs (checked at run time), or narrower if PPOHDEM_SIMD says so
@@ -139,9 +141,9 @@ class TriangleTree {
   /// opened while it is within the bound of one of the points still active in it, and each
   /// point's bounds, triangle tests and minimum are its own, so out[c] is nearest(p[c]) bit for
   /// bit. For neighbouring points (grid nodes) the paths nearly coincide; the points' box
-  /// distances are independent arithmetic within one visit (one point per lane: 8 in AVX-512, 4 in
-  /// AVX, so more points take two traversals; SSE2: 2 lanes), and the branches are taken once per
-  /// packet. `simd`: the widest instruction set to use (tests; the CPU's own limit applies too).
+  /// distances are independent arithmetic within one visit (one point per lane: 16 in two
+  /// AVX-512 registers, 8 in one, 4 in AVX, so more points take several traversals; SSE2: 2
+  /// lanes), and the branches are taken once per packet. `simd`: the widest instruction set to use (tests; the CPU's own limit applies too).
   void nearest_packet(const Vec3* p, const std::int64_t* hint, int count, Nearest* out,
                       PacketSimd simd = PacketSimd::best) const;
 
@@ -168,11 +170,13 @@ class TriangleTree {
 
  private:
   struct BuildInput;
-  std::uint32_t build(BuildInput& in, std::uint32_t begin, std::uint32_t end, int depth);
+  struct BuildOutput;
+  std::uint32_t build(BuildInput& in, BuildOutput& out, std::uint32_t begin, std::uint32_t end, int depth);
+  void append_subtree(BuildOutput& out, const BuildOutput& subtree) const;
   static double box_squared_distance(const double lo[3], const double hi[3], const Vec3& p);
 
   void fit_oriented_box(const std::vector<Triangle>& input, const std::vector<std::uint32_t>& order,
-                        std::uint32_t begin, std::uint32_t end, std::uint32_t index);
+                        std::uint32_t begin, std::uint32_t end, std::uint32_t index, BuildOutput& out) const;
 
   std::vector<Node> nodes_;
   std::vector<OrientedNode> oriented_;  ///< parallel to nodes_ (if oriented)
