@@ -47,8 +47,21 @@ inline std::size_t sum_cut(const FastState& s, std::size_t range, std::size_t ra
                                   s.first.begin());
 }
 
+/// The end of particle i's lower-id slots to add in the sum pass: the first slot (none) if no
+/// lower-id partner touches it (the OR of their codes is kNoSpring, 0), else all of them. One
+/// load and OR a slot instead of a result's loads and adds, for a particle in flight; in a bed
+/// nearly every particle has a lower-id contact, so the sum pass scans only in a dilute
+/// evaluation (kScanLower; docs/performance.md "Energy book-keeping").
+inline std::uint32_t touched_lower_end(const FastState& s, std::size_t i) {
+  static_assert(kNoSpring == 0u, "the codes OR to kNoSpring only if each is kNoSpring");
+  std::uint32_t touching = 0;
+  for (std::uint32_t slot = s.first[i]; slot < s.upper_first[i]; ++slot) touching |= s.lower_code[slot];
+  return touching == kNoSpring ? s.first[i] : s.upper_first[i];
+}
+
 /// The sum pass (see the top); inside the kernel's parallel region, one range per thread.
-template <class K>
+/// kScanLower: skip the lower-id results of the particles no lower-id partner touches.
+template <class K, bool kScanLower>
 inline void sum_pass(FastState& s, std::size_t ranges, std::size_t n, bool has_ghosts) {
   PPOHDEM_OMP(omp for schedule(static, 1))
   for (std::size_t range = 0; range < ranges; ++range) {
@@ -75,16 +88,8 @@ inline void sum_pass(FastState& s, std::size_t ranges, std::size_t n, bool has_g
         Vec3 force = s.f[i];
         Vec3 torque = s.t[i];
         const std::uint32_t first = s.first[i];
-        std::uint32_t lower_end = s.upper_first[i];
         const bool ghost_partners = has_ghosts && s.lower_ghost[i] != 0;
-        if (!ghost_partners) {
-          // No lower-id partner touches it (a particle in flight): one load and OR a slot
-          // instead of a result's loads and adds (docs/performance.md "Energy book-keeping").
-          static_assert(kNoSpring == 0u, "the codes OR to kNoSpring only if each is kNoSpring");
-          std::uint32_t touching = 0;
-          for (std::uint32_t slot = first; slot < lower_end; ++slot) touching |= s.lower_code[slot];
-          if (touching == kNoSpring) lower_end = first;
-        }
+        const std::uint32_t lower_end = kScanLower && !ghost_partners ? touched_lower_end(s, i) : s.upper_first[i];
         for (std::uint32_t slot = lower_end; slot-- > first;) {
           if (ghost_partners && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
             const PairResult& r = result_or_zero(s, s.spring_of[slot]);
