@@ -1,32 +1,14 @@
-// libFuzzer target: checkpoint files (dem::decode_checkpoint). A mutated file almost never
-// passes the CRC-32s, so the input is the PAYLOAD: the target wraps it in a valid header and
-// trailer (magic, version, this build, length, both CRCs) and decodes that, which exercises
-// the payload parser behind the checksums. An accepted payload must be canonical: encoding
-// the decoded checkpoint again gives back exactly the same file.
+// libFuzzer target: checkpoint files (dem::decode_checkpoint). The input is the PAYLOAD, framed
+// by checkpoint_frame.hpp. An accepted payload must be canonical: encoding the decoded
+// checkpoint again gives back exactly the same file.
 #include <vector>
 
+#include "checkpoint_frame.hpp"
 #include "fuzz_support.hpp"
-#include "ppohdem/dem/checkpoint.hpp"
-
-namespace {
-
-void put_u32(std::vector<std::uint8_t>& b, std::uint32_t v) {
-  for (int k = 0; k < 4; ++k) b.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace ppohdem;
-  std::vector<std::uint8_t> file(dem::kCheckpointMagic, dem::kCheckpointMagic + 8);
-  put_u32(file, dem::kCheckpointFormatVersion);
-  const std::string build = dem::checkpoint_build_name();
-  put_u32(file, static_cast<std::uint32_t>(build.size()));
-  file.insert(file.end(), build.begin(), build.end());
-  for (int k = 0; k < 8; ++k) file.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(size) >> (8 * k)));
-  put_u32(file, dem::crc32_of(file.data(), file.size()));
-  file.insert(file.end(), data, data + size);
-  put_u32(file, dem::crc32_of(data, size));
+  const std::vector<std::uint8_t> file = fuzz::framed_payload(dem::kCheckpointMagic, data, size);
   fuzz::run_reader([&] {
     const dem::Checkpoint c = dem::decode_checkpoint(file, "fuzz.bin");
     PPOHDEM_FUZZ_CHECK(dem::encode_checkpoint(c) == file);
