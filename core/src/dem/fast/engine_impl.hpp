@@ -341,7 +341,7 @@ struct FastEngine::Impl {
   /// about the origin, minus the rolling torque on the particle [N, N m]: the terms the
   /// reference adds (force_passes.hpp), each exactly.
   void add_load(EvaluationSums& to, std::uint32_t boundary, const Vec3& force, const Vec3& point,
-                const Vec3& rolling) const {  // inline: once per boundary record in the per-step sums
+                const Vec3& rolling) const {  // inline: once per boundary record in the loads' sums
     ExactSum* load = to.load(boundary);
     const Vec3 moment = point.cross(-force);
     for (int c = 0; c < 3; ++c) {

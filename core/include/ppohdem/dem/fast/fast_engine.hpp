@@ -156,8 +156,9 @@ class FastEngine final : public DemEngine {
   Energies energies() const override;
   ContactCounts contact_counts() const override;
   std::size_t escaped_count() const override;
-  /// One rank without energy tracking: from the last closing kick's sum of |v|^2 + |w|^2
-  /// over the particles (the energies are then not summed every step); else the default.
+  /// From the last closing kick's sum of |v|^2 + |w|^2 over the particles (with several
+  /// ranks every rank's), so that no energy is summed for the screen; after a (re)load, before
+  /// any step, the default.
   bool motion_finite() const override;
   std::vector<BoundaryLoad> boundary_loads() const override;
   EngineState save_state() const override;
