@@ -190,7 +190,7 @@ struct FastEngine::Impl {
   bool skip_far_objects = true;  ///< FastOptions::skip_far_objects
   long steps = 0;
   long builds = 0;
-  /// The cumulative energy terms, summed at every evaluation (add_step_sums) [J].
+  /// The cumulative energy terms, summed at every evaluation (add_rates) [J].
   double dissipated = 0.0;
   double boundary_work = 0.0;
   double power = 0.0;  ///< P(n) of the last evaluation [W]
@@ -208,6 +208,10 @@ struct FastEngine::Impl {
   std::size_t escaped = 0;  ///< whole system (not kept up to date when lazy_sums())
   /// Several ranks: every rank's close_kick screen was finite at the last evaluation.
   bool screens_finite = true;
+  /// Several ranks: the next drift's largest |x - x_build|^2 over every rank, from the last
+  /// closing evaluation's allreduce (next_drift, fast_state.hpp); empty when not known (after a
+  /// (re)load or a non-closing evaluation): step() then asks the ranks after its drift.
+  std::optional<double> drift_over_ranks;
   mutable Particles out;  ///< particles() in construction order (whole system)
   mutable bool out_valid = false;
   // Halo plan (built at every list build, applied after every drift): send[i] = storage indices
@@ -219,7 +223,7 @@ struct FastEngine::Impl {
   std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
 
   bool distributed() const { return comm->size() > 1; }
-  /// One rank: the escaped count is counted when asked (several ranks gather it with every
+  /// One rank: the escaped count is counted when asked (several ranks reduce it with every
   /// evaluation's counts). On any rank count the energies and the boundary loads are summed
   /// when asked, never in a step, and the run checks screen the motion with close_kick's screen
   /// (motion_finite). Why: a per-step sum is a pass over every particle that nothing reads
@@ -332,7 +336,8 @@ struct FastEngine::Impl {
   void add_lost_energy();
 
   /// A force evaluation. `closing_kick` (a step): the second half kick follows the kernel (or
-  /// runs in its sum pass). Sums nothing over the particles; several ranks gather the counts.
+  /// runs in its sum pass). One rank: sums the rates only (energies tracked); several ranks:
+  /// one allreduce of a StepRecord (step_record.hpp) and nothing else.
   void evaluate_forces(double history_dt, bool closing_kick = false);
   /// s.reach for the evaluation at `time` [s] (step.cpp).
   void update_reach(double time);
@@ -378,9 +383,9 @@ struct FastEngine::Impl {
   /// allreduce).
   Energies sum_energies() const;
 
-  /// Energies tracked: the rates of one evaluation (dissipated, boundary work and power: exact
-  /// sums over the owned particles, merged over the ranks) added to the cumulative terms.
-  void add_step_sums(double history_dt);
+  /// Energies tracked: the rates of one evaluation (rates[0..3): dissipated, boundary work and
+  /// power, exact sums over the particles of every rank) added to the cumulative terms.
+  void add_rates(const ExactSum* rates, double history_dt);
 
   /// The second half kick of every owned particle (close_kick, fast_state.hpp) unless the
   /// kernel's sum pass applied it; the next step's first half kick reuses it.
