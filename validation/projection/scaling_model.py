@@ -23,10 +23,11 @@ One time step of rank r (the step ends in a collective, so the slowest rank sets
   S          bytes of the step's allreduce (core/src/dem/fast/step_record.hpp, StepRecord):
              1,776 B with the energies tracked (counts, screen, the rates' 3 exact sums of 70
              words, the next drift's maximum, the deepest contact), 96 B untracked (--no-sums)
-  k          steps per list build (--steps-per-build); a build adds 4 collectives (the
-             migration's fallback vote, the lost histories' allgather: a count and a block, 4
-             bytes a rank when none is lost; the balance check, and the cut's own when it
-             re-cuts, are left out: docs/performance.md "The cost model")
+  k          steps per list build (--steps-per-build); a build adds 5 collectives to its
+             step's one (counted by DemFastMpi.OneCollectiveAStepOn*Ranks): the migration's
+             vote on a fallback to all ranks, the balance check's max and mean, the lost
+             histories' allgather (a count and a block: 4 bytes a rank when none is lost); a
+             re-cut's own bisection (18-37 more at 2-4 ranks, rare) is left out
 
 Strong scaling: E(P) = c N / (P T(P)). Weak scaling (--weak: the CSV's beds hold the same
 particles per rank): E(P) = c n / T(P), n the particles per rank.
@@ -48,7 +49,7 @@ REFRESH_BYTES = 120      # per ghost per step (5 vectors of 3 doubles; ppohdem p
 CREATION_BYTES = 298     # per ghost at its creation (ppohdem project prints it)
 RECORD_BYTES = 8 * (1 + 4 + 3 * 70 + 1 + 6)   # StepRecord, energies tracked (dem_step_record_test)
 RECORD_BYTES_UNTRACKED = 8 * (1 + 4 + 1 + 6)  # StepRecord, energies untracked
-BUILD_COLLECTIVES = 4    # a list build's own: max allreduce, the lost histories' allgather (2), ...
+BUILD_COLLECTIVES = 5    # a list build's own, besides its step's allreduce (see k above)
 
 
 def read_ranks(path):
