@@ -102,7 +102,7 @@ def main():
         return check_here(a)
     for path in a.csv:
         by_p = read_ranks(path)
-        print('\n%s: c = %.3g s, beta = %.3g, alpha = %.3g, L = %.3g s, B = %.3g B/s, a build every %g steps%s%s'
+        print('\n%s: c = %.3g s, beta = %.3g, alpha = %.3g, L = %.3g s, B = %.3g B/s, a build every %g steps%s'
               % (path, a.c, a.beta, a.alpha, a.latency, a.bandwidth, a.steps_per_build,
                  '' if a.sums else ', energies untracked'))
         print('| ranks | particles | per rank | compute [ms] | halo [ms] | builds [ms] | collectives [ms] | step [ms] | '
