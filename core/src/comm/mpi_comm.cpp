@@ -72,18 +72,20 @@ class MpiComm final : public Comm {
   }
   // The record is ONE element of a contiguous type, so that no algorithm of the allreduce cuts
   // it into pieces (a segmented ring would otherwise apply the operation to parts of records).
+  // The type and the operation are made once (a record keeps its size for a run) and kept until
+  // MPI_Finalize, which frees them: this object outlives it (CommEnvironment).
   void combine_over_ranks(std::span<std::int64_t> record, CombineWords combine) const override {
     ++collectives_;
-    MPI_Datatype type = MPI_DATATYPE_NULL;
-    check(MPI_Type_contiguous(to_int_count(record.size()), MPI_INT64_T, &type), "MPI_Type_contiguous");
-    check(MPI_Type_commit(&type), "MPI_Type_commit");
-    MPI_Op op = MPI_OP_NULL;
-    check(MPI_Op_create(&apply_combine, /*commute=*/1, &op), "MPI_Op_create");
+    if (combine_op_ == MPI_OP_NULL) check(MPI_Op_create(&apply_combine, /*commute=*/1, &combine_op_), "MPI_Op_create");
+    if (record_words_ != record.size()) {
+      if (record_type_ != MPI_DATATYPE_NULL) check(MPI_Type_free(&record_type_), "MPI_Type_free");
+      check(MPI_Type_contiguous(to_int_count(record.size()), MPI_INT64_T, &record_type_), "MPI_Type_contiguous");
+      check(MPI_Type_commit(&record_type_), "MPI_Type_commit");
+      record_words_ = record.size();
+    }
     current_combine = combine;
-    const int code = MPI_Allreduce(MPI_IN_PLACE, record.data(), 1, type, op, MPI_COMM_WORLD);
+    const int code = MPI_Allreduce(MPI_IN_PLACE, record.data(), 1, record_type_, combine_op_, MPI_COMM_WORLD);
     current_combine = nullptr;
-    MPI_Op_free(&op);
-    MPI_Type_free(&type);
     check(code, "MPI_Allreduce");
   }
   double broadcast_from_root(double value) const override {
@@ -212,6 +214,10 @@ class MpiComm final : public Comm {
   }
 
  private:
+  mutable MPI_Op combine_op_ = MPI_OP_NULL;                ///< combine_over_ranks' operation
+  mutable MPI_Datatype record_type_ = MPI_DATATYPE_NULL;  ///< its record type, of record_words_
+  mutable std::size_t record_words_ = 0;
+
   double reduce(double value, MPI_Op op) const {
     double result = 0.0;
     ++collectives_;
