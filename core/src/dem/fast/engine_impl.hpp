@@ -219,6 +219,7 @@ struct FastEngine::Impl {
   // how many ghosts came from peers[i] (stored contiguously after the owned ones, by peer).
   std::vector<std::vector<std::uint32_t>> halo_send;
   std::vector<std::uint32_t> halo_recv;
+  std::vector<Bytes> halo_kicks;  ///< pack_ghost_kicks' messages, one per peer (reused)
   /// Histories dropped at the last list build: (construction index, partner id, energy) [J].
   std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
 
@@ -271,11 +272,15 @@ struct FastEngine::Impl {
   /// range 2 R_max + skin of rank r's brick goes to rank r with all its fields.
   void make_ghosts();
 
-  /// The halo plan applied: the moving fields of the ghosts from their owners. A message holds
-  /// the moving arrays one after the other (all the x, then all the v, ...), sized once and
-  /// copied value by value without a Packer (appending value by value was a large share of a
-  /// 2-rank step: docs/performance.md "Ranks gather once per evaluation").
-  void refresh_ghosts();
+  /// The halo plan's messages of this step, before the drift: for each peer the first half
+  /// kicks (first_half_kick) of the particles it holds as ghosts, in the plan's order.
+  void pack_ghost_kicks(bool cached);
+
+  /// The halo plan applied after the drift: each ghost gets its owner's half kick and repeats
+  /// its owner's arithmetic (kick_and_drift, after the closing kick's v += kick when `cached`),
+  /// so its moving fields are its owner's bits: 48 bytes a ghost instead of the 120 of x, v,
+  /// omega, pv, pw (docs/dem.md "Domain decomposition").
+  void refresh_ghosts(bool cached);
 
   /// A list build: migration (several ranks), sort of the owned particles by cell, ghosts,
   /// then the full neighbour list of the owned particles (pairs closer than R_i + R_j + skin,

@@ -499,6 +499,30 @@ inline double close_kick(FastState& s, std::size_t i) {
   return s.v[i].squaredNorm() + s.w[i].squaredNorm();
 }
 
+/// The first half kick of particle i in a step, dt/2 (a, alpha): the one the closing kick of
+/// the previous step left in pv, pw when `cached`, else from f, t (after a (re)load).
+struct HalfKick {
+  Vec3 v;  ///< [m/s]
+  Vec3 w;  ///< [1/s]
+};
+inline HalfKick first_half_kick(const FastState& s, std::size_t i, bool cached) {
+  if (cached) return {s.pv[i], s.pw[i]};
+  const double half = 0.5 * s.dt;
+  return {Vec3(half * (s.f[i] / s.mass[i] + s.gravity)), Vec3(half * s.t[i] / s.inertia[i])};
+}
+
+/// The half kick and drift of particle i (the reference's expressions, so the same bits),
+/// with pv, pw the predicted velocities the force pass reads. The owner applies it to its
+/// particles and each rank to its ghosts, from the same kick (halo.cpp), so a ghost keeps
+/// its owner's bits.
+inline void kick_and_drift(FastState& s, std::size_t i, const HalfKick& k) {
+  s.v[i] += k.v;
+  s.w[i] += k.w;
+  s.x[i] += s.dt * s.v[i];
+  s.pv[i] = s.v[i] + k.v;
+  s.pw[i] = s.w[i] + k.w;
+}
+
 /// |x - x_build|^2 of particle i after the next step's drift, right after its closing kick:
 /// that drift is v += pv, x += dt v (FastEngine::Impl::step), here with the same expressions,
 /// so the same bits (docs/dem.md "One collective a step").

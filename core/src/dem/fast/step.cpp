@@ -76,9 +76,6 @@ void FastEngine::Impl::close_step() {
 }
 
 void FastEngine::Impl::step() {
-  const double dt = s.dt;
-  const double half = 0.5 * dt;
-  const Vec3 g = s.gravity;
   const std::size_t n = s.owned;
   double largest = 0.0;  // max |x - x_build|^2 [m^2]
   // Half kick and drift (the reference's expressions, so the same bits). The kick of
@@ -86,15 +83,10 @@ void FastEngine::Impl::step() {
   // that step left it in pv, pw (free between steps), which saves 6 of the 12 divisions of
   // a particle-step; after a (re)start the kick is computed afresh.
   const bool cached = kick_cached;
+  if (distributed()) pack_ghost_kicks(cached);  // before the drift, which overwrites pv, pw
   PPOHDEM_OMP(omp parallel for schedule(static) reduction(max : largest) if (n >= kParallelMin))
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 kick = cached ? s.pv[i] : Vec3(half * (s.f[i] / s.mass[i] + g));
-    const Vec3 spin_kick = cached ? s.pw[i] : Vec3(half * s.t[i] / s.inertia[i]);
-    s.v[i] += kick;
-    s.w[i] += spin_kick;
-    s.x[i] += dt * s.v[i];
-    s.pv[i] = s.v[i] + kick;
-    s.pw[i] = s.w[i] + spin_kick;
+    kick_and_drift(s, i, first_half_kick(s, i, cached));
     largest = std::max(largest, (s.x[i] - s.x_build[i]).squaredNorm());
   }
   ++steps;
@@ -120,9 +112,9 @@ void FastEngine::Impl::step() {
   if (build) {
     build_lists();
   } else {
-    refresh_ghosts();
+    refresh_ghosts(cached);
   }
-  evaluate_forces(dt, /*closing_kick=*/true);
+  evaluate_forces(s.dt, /*closing_kick=*/true);
   out_valid = false;
 }
 
