@@ -13,8 +13,8 @@ One time step of rank r (the step ends in a collective, so the slowest rank sets
 
   n_r, g_r   owned particles and ghosts of rank r (the CSV); m_r = max(messages in, out) and
              b_r = max(bytes in, out) of the per-step refresh (one message per peer holding
-             ghosts; 120 B per ghost); p_r peers (a build's ghost creation and migration each
-             send a count and a block to every peer); e = 298 B per created ghost
+             ghosts; 48 B per ghost: its owner's half kick); p_r peers (a build's ghost creation and migration each
+             send a count and a block to every peer); e = 266 B per created ghost
   c          compute per particle-step on one rank here [s] (measured; --c)
   beta       extra compute per owned particle when the rank has ghosts (callgrind; --beta)
   alpha      extra compute per ghost (callgrind; --alpha)
@@ -45,8 +45,8 @@ import math
 import sys
 from collections import defaultdict
 
-REFRESH_BYTES = 120      # per ghost per step (5 vectors of 3 doubles; ppohdem project prints it)
-CREATION_BYTES = 298     # per ghost at its creation (ppohdem project prints it)
+REFRESH_BYTES = 48       # per ghost per step (a half kick: 2 vectors of 3 doubles; ppohdem project prints it)
+CREATION_BYTES = 266     # per ghost at its creation (ppohdem project prints it)
 RECORD_BYTES = 8 * (1 + 4 + 3 * 70 + 1 + 6)   # StepRecord, energies tracked (dem_step_record_test)
 RECORD_BYTES_UNTRACKED = 8 * (1 + 4 + 1 + 6)  # StepRecord, energies untracked
 BUILD_COLLECTIVES = 5    # a list build's own, besides its step's allreduce (see k above)
