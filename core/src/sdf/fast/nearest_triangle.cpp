@@ -771,6 +771,8 @@ struct LanesAvx {
   __attribute__((target("avx"))) static inline M both(M a, M b) { return _mm256_and_pd(a, b); }
   __attribute__((target("avx"))) static inline V div(V a, V b) { return _mm256_div_pd(a, b); }
   __attribute__((target("avx"))) static inline M lt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+  __attribute__((target("avx"))) static inline M eq(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
+  __attribute__((target("avx"))) static inline V sqrt(V a) { return _mm256_sqrt_pd(a); }
   __attribute__((target("avx"))) static inline M either(M a, M b) { return _mm256_or_pd(a, b); }
   /// a and not b.
   __attribute__((target("avx"))) static inline M but(M a, M b) { return _mm256_andnot_pd(b, a); }
@@ -813,6 +815,8 @@ struct LanesAvx512 {
   __attribute__((target("avx512f"))) static inline M both(M a, M b) { return static_cast<M>(a & b); }
   __attribute__((target("avx512f"))) static inline V div(V a, V b) { return _mm512_maskz_div_pd(0xFF, a, b); }
   __attribute__((target("avx512f"))) static inline M lt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+  __attribute__((target("avx512f"))) static inline M eq(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
+  __attribute__((target("avx512f"))) static inline V sqrt(V a) { return _mm512_maskz_sqrt_pd(0xFF, a); }
   __attribute__((target("avx512f"))) static inline M either(M a, M b) { return static_cast<M>(a | b); }
   __attribute__((target("avx512f"))) static inline M but(M a, M b) { return static_cast<M>(a & ~b); }
   __attribute__((target("avx512f"))) static inline unsigned bits(M m) { return static_cast<unsigned>(m); }
@@ -863,6 +867,11 @@ struct LanesAvx512Pair {
     return static_cast<M>(_mm512_cmp_pd_mask(x.r[0], y.r[0], _CMP_LT_OQ)) |
            static_cast<M>(_mm512_cmp_pd_mask(x.r[1], y.r[1], _CMP_LT_OQ)) << 8;
   }
+  PPOHDEM_PAIR M eq(V x, V y) {
+    return static_cast<M>(_mm512_cmp_pd_mask(x.r[0], y.r[0], _CMP_EQ_OQ)) |
+           static_cast<M>(_mm512_cmp_pd_mask(x.r[1], y.r[1], _CMP_EQ_OQ)) << 8;
+  }
+  PPOHDEM_PAIR V sqrt(V x) { PPOHDEM_PAIR_EACH(_mm512_maskz_sqrt_pd(0xFF, x.r[i])); }
   PPOHDEM_PAIR M both(M x, M y) { return x & y; }
   PPOHDEM_PAIR M either(M x, M y) { return x | y; }
   PPOHDEM_PAIR M but(M x, M y) { return x & ~y; }
