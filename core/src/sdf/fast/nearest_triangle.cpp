@@ -788,12 +788,6 @@ struct LanesAvx {
         {-1, 0, 0, 0}, {0, -1, 0, 0}, {0, 0, -1, 0}, {0, 0, 0, -1}};
     return _mm256_blendv_pd(v, _mm256_set1_pd(x), _mm256_load_pd(reinterpret_cast<const double*>(kLane[c])));
   }
-  /// Sum of v over the lanes of m (any order: it only orders the children).
-  __attribute__((target("avx"))) static inline double sum(M m, V v) {
-    const V a = _mm256_and_pd(v, m);
-    const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(a), _mm256_extractf128_pd(a, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
-  }
 };
 
 /// The same for 8 points in AVX-512 registers; masks are mask registers.
@@ -823,13 +817,6 @@ struct LanesAvx512 {
   __attribute__((target("avx512f"))) static inline V select(M m, V a, V b) { return _mm512_mask_blend_pd(m, b, a); }
   __attribute__((target("avx512f"))) static inline V set_lane(V v, int c, double x) {
     return _mm512_mask_mov_pd(v, static_cast<M>(1u << c), _mm512_set1_pd(x));
-  }
-  __attribute__((target("avx512f"))) static inline double sum(M m, V v) {
-    const V a = _mm512_maskz_mov_pd(m, v);
-    const __m256d h =
-        _mm256_add_pd(_mm512_maskz_extractf64x4_pd(0xF, a, 0), _mm512_maskz_extractf64x4_pd(0xF, a, 1));
-    const __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(q, _mm_unpackhi_pd(q, q)));
   }
 };
 
@@ -882,13 +869,6 @@ struct LanesAvx512Pair {
   PPOHDEM_PAIR V set_lane(V v, int c, double x) {
     v.r[c / 8] = _mm512_mask_mov_pd(v.r[c / 8], static_cast<__mmask8>(1u << (c % 8)), _mm512_set1_pd(x));
     return v;
-  }
-  PPOHDEM_PAIR double sum(M m, V v) {  // only orders the traversal: any summation order will do
-    const __m512d s = _mm512_add_pd(_mm512_maskz_mov_pd(static_cast<__mmask8>(m), v.r[0]),
-                                    _mm512_maskz_mov_pd(static_cast<__mmask8>(m >> 8), v.r[1]));
-    double t[8];
-    _mm512_storeu_pd(t, s);
-    return ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]));
   }
 #undef PPOHDEM_PAIR_EACH
 #undef PPOHDEM_PAIR
