@@ -876,8 +876,14 @@ struct LanesAvx512Pair {
 
 /// From this many points within a triangle's box on, their distances are computed in lanes: from
 /// 1 or 2 points on they are equally fast, from 3 on slower (docs/performance.md "Trials that
-/// were dropped").
+/// were dropped"). The 16 lanes of LanesAvx512Pair measure even one point in lanes: there the
+/// scalar distance and its blend into the lane cost more (docs/performance.md "Kept
+/// optimisations").
 constexpr int kLanesMinPoints = 2;
+template <class Lanes>
+constexpr int lanes_min_points() {
+  return Lanes::kWidth >= 16 ? 1 : kLanesMinPoints;
+}
 
 // The lane traversals, one namespace per instruction set (refine_lanes.inc).
 namespace avx {
