@@ -179,8 +179,7 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bo
   // Query points far from the mesh round at their own scale: the larger of the two counts.
   slack_ = 1e-12 * std::max({scale, std::abs(coordinate_scale), 1e-300});
   BuildOutput out;
-  out.nodes.reserve(2 * n / kLeafSize + 2);
-  if (oriented_boxes_) out.oriented.reserve(2 * n / kLeafSize + 2);
+  reserve_nodes(out, n);
   if (n > 0) build(in, out, 0, static_cast<std::uint32_t>(n), 0);
   nodes_ = std::move(out.nodes);
   oriented_ = std::move(out.oriented);
@@ -362,6 +361,8 @@ std::uint32_t TriangleTree::build(BuildInput& in, BuildOutput& out, std::uint32_
     // The left subtree as a task, the right one here; both then appended in depth-first order,
     // so the tree is the one the serial build makes.
     BuildOutput left, right;
+    reserve_nodes(left, middle - begin);
+    reserve_nodes(right, end - middle);
 #if defined(PPOHDEM_WITH_OPENMP)
 #pragma omp task default(shared)
 #endif
@@ -381,6 +382,15 @@ std::uint32_t TriangleTree::build(BuildInput& in, BuildOutput& out, std::uint32_
   out.nodes[index] = node;
   fit_oriented_box(input, order, begin, end, index, out);
   return index;
+}
+
+void TriangleTree::reserve_nodes(BuildOutput& out, std::size_t triangles) const {
+  // At most 2 n - 1 nodes (leaves of 1 to kLeafSize triangles): the vectors never grow, so no
+  // node is copied and no freed block was first touched for nothing (fresh pages are dear:
+  // docs/performance.md "The whole voxelize process"); the capacity beyond the nodes is never
+  // touched, so it costs address space only.
+  out.nodes.reserve(2 * triangles);
+  if (oriented_boxes_) out.oriented.reserve(2 * triangles);
 }
 
 void TriangleTree::append_subtree(BuildOutput& out, const BuildOutput& subtree) const {
@@ -1008,10 +1018,9 @@ void TriangleTree::collect_near_box(const double lo[3], const double hi[3], doub
   }
 }
 
-std::size_t TriangleTree::memory_bytes() const {
-  return nodes_.capacity() * sizeof(Node) + oriented_.capacity() * sizeof(OrientedNode) +
-         pairs_.capacity() * sizeof(ChildPair) +
-         triangles_.capacity() * sizeof(PreparedTriangle);
+std::size_t TriangleTree::memory_bytes() const {  // in use (the reserve beyond is never touched)
+  return nodes_.size() * sizeof(Node) + oriented_.size() * sizeof(OrientedNode) + pairs_.size() * sizeof(ChildPair) +
+         triangles_.size() * sizeof(PreparedTriangle);
 }
 
 }  // namespace ppohdem::sdf::fast

@@ -174,6 +174,7 @@ class TriangleTree {
   struct BuildInput;
   struct BuildOutput;
   std::uint32_t build(BuildInput& in, BuildOutput& out, std::uint32_t begin, std::uint32_t end, int depth);
+  void reserve_nodes(BuildOutput& out, std::size_t triangles) const;
   void append_subtree(BuildOutput& out, const BuildOutput& subtree) const;
   static double box_squared_distance(const double lo[3], const double hi[3], const Vec3& p);
 
