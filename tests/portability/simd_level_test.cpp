@@ -97,6 +97,7 @@ TEST(SimdLevel, ForcedLevelReachesEveryDispatch) {
   const Simd packet = sdf::fast::TriangleTree::packet_simd_available();
   EXPECT_EQ(packet, expected == SimdLevel::avx512 ? Simd::avx512 : expected == SimdLevel::avx ? Simd::avx : Simd::sse2);
   EXPECT_EQ(dem::fast::x4_contacts_available(), expected >= SimdLevel::avx);
+  EXPECT_EQ(dem::fast::x8_contacts_available(), expected >= SimdLevel::avx512);
   RecordProperty("simd_level", simd_level_name(expected));
 }
 
@@ -151,8 +152,9 @@ TEST(SimdLevels, FastSdfFieldIsTheSameBytesAtEveryLevel) {
   RecordProperty("levels", static_cast<int>(runnable_levels().size()));
 }
 
-// The fast engine on a colliding frictional bed (1152 spheres, 200 steps, ctest's threads): avx and
-// avx512 take the four-lane contacts and neighbour test, sse2 the one-at-a-time code.
+// The fast engine on a colliding frictional bed (1152 spheres, 200 steps, ctest's threads): avx
+// takes the four-lane contacts, avx512 the eight-lane ones (both the four-lane neighbour test),
+// sse2 the one-at-a-time code.
 TEST(SimdLevels, FastDemTrajectoryIsTheSameBytesAtEveryLevel) {
   const fs::path root = test::scratch_dir();
   std::vector<std::string> first;

@@ -17,6 +17,7 @@
 
 #include "ppohdem/error.hpp"
 #include "ppohdem/io/atomic_file.hpp"
+#include "ppohdem/io/block_file.hpp"
 #include "ppohdem/io/legacy_inputs.hpp"
 
 namespace ppohdem {
@@ -184,8 +185,11 @@ void write_vtk_structured_points(const std::filesystem::path& path, const Scalar
   out += "SCALARS " + std::string(array_name) + (type == VtkScalarType::kDouble ? " double" : " float") + " 1\n";
   out += "LOOKUP_TABLE default\n";
 
-  AtomicFileWriter writer(path, /*binary=*/true);
-  writer.stream().write(out.data(), static_cast<std::streamsize>(out.size()));
+  // Past the page cache where the file system allows (io/block_file.hpp): a large field's
+  // buffered write was the most variable part of `ppohdem voxelize` (docs/performance.md "The
+  // whole voxelize process").
+  BlockFileWriter writer(path);
+  writer.write(out.data(), out.size());
   // The values in blocks, whole words byte-swapped (a byte at a time was most of the write's
   // time: docs/performance.md "The whole voxelize process").
   constexpr std::size_t kBlock = 1 << 16;
@@ -202,9 +206,9 @@ void write_vtk_structured_points(const std::filesystem::path& path, const Scalar
         p += 4;
       }
     }
-    writer.stream().write(block.data(), p - block.data());
+    writer.write(block.data(), static_cast<std::size_t>(p - block.data()));
   }
-  writer.stream().write("\n", 1);  // VTK's own writer ends the binary block with a newline
+  writer.write("\n", 1);  // VTK's own writer ends the binary block with a newline
   writer.commit();
 }
 

@@ -532,6 +532,10 @@ inline double next_drift(const FastState& s, std::size_t i) {
   return (x - s.x_build[i]).squaredNorm();
 }
 
+/// close_kick of particles [begin, end), eight at a time where the CPU has AVX-512F (the same
+/// bits; close_kicks.cpp). Returns a screen that is finite if and only if every close_kick's is.
+double close_kicks(FastState& s, std::size_t begin, std::size_t end);
+
 /// A force evaluation: contact forces and torques of every OWNED particle at time `time` with
 /// history increment interval `dt` (0 at start-up); fills f, t, the energy terms, the new
 /// boundary records and the counts.

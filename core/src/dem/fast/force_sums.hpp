@@ -7,8 +7,8 @@
 // result and history is in place. Each particle adds to its first part (its own higher-id
 // contacts) the negated results of its lower-id partners in descending id (-f and -(r_j x f)
 // are bitwise the partner side's f' and r' x f'), then its new boundary records; at the end
-// of a step it also applies its closing kick (close_kick, fast_state.hpp) while f and t are
-// in registers, instead of a separate pass of the engine. It reads only finished results and
+// of a step it also applies the closing kicks (close_kicks, fast_state.hpp) of every kChunk
+// particles it has summed, while their f and t are in L1, instead of a separate pass of the engine. It reads only finished results and
 // writes only its particles' f and t, so it has its own cut: shares of the neighbour slots
 // (its work is about the same per slot), corrected by the pass's own measured times every
 // kSumRecut evaluations (FastState::sum_share), while the pair pass's ranges are balanced by
@@ -80,43 +80,50 @@ inline void sum_pass(FastState& s, std::size_t ranges, std::size_t n, bool has_g
       if (from >= to) continue;
       [[maybe_unused]] const BoundaryRecord* const records = s.threads[block].records.data();
       [[maybe_unused]] std::uint32_t record = K::kRecords && from != s.split[block] ? s.next_record_first[from] : 0u;
-      for (std::size_t i = from; i < to; ++i) {
-        // The pair pass's sum of the higher-id partners' contacts, then the lower-id partners'
-        // in descending id. A slot without contact adds a zero result instead of being
-        // skipped (no branch, which mispredicted about 2.9 times per particle): the sum
-        // started at +0 and a sum of doubles is -0 only if both terms are, so it is never -0
-        // and adding +0 (or -0) leaves every bit of it unchanged.
-        Vec3 force = s.f[i];
-        Vec3 torque = s.t[i];
-        const std::uint32_t first = s.first[i];
-        const bool ghost_partners = has_ghosts && s.lower_ghost[i] != 0;
-        const std::uint32_t lower_end = kScanLower && !ghost_partners ? touched_lower_end(s, i) : s.upper_first[i];
-        for (std::uint32_t slot = lower_end; slot-- > first;) {
-          if (ghost_partners && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
-            const PairResult& r = result_or_zero(s, s.spring_of[slot]);
-            force += r.force;
-            torque += r.torque_i;
-            continue;
+      // By pieces of kChunk particles: the closing kicks of a piece follow its sums, while its
+      // f and t are in L1.
+      for (std::size_t piece = from; piece < to; piece += kChunk) {
+        const std::size_t piece_end = std::min(piece + kChunk, to);
+        for (std::size_t i = piece; i < piece_end; ++i) {
+          // The pair pass's sum of the higher-id partners' contacts, then the lower-id partners'
+          // in descending id. A slot without contact adds a zero result instead of being
+          // skipped (no branch, which mispredicted about 2.9 times per particle): the sum
+          // started at +0 and a sum of doubles is -0 only if both terms are, so it is never -0
+          // and adding +0 (or -0) leaves every bit of it unchanged.
+          Vec3 force = s.f[i];
+          Vec3 torque = s.t[i];
+          const std::uint32_t first = s.first[i];
+          const bool ghost_partners = has_ghosts && s.lower_ghost[i] != 0;
+          const std::uint32_t lower_end = kScanLower && !ghost_partners ? touched_lower_end(s, i) : s.upper_first[i];
+          for (std::uint32_t slot = lower_end; slot-- > first;) {
+            if (ghost_partners && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
+              const PairResult& r = result_or_zero(s, s.spring_of[slot]);
+              force += r.force;
+              torque += r.torque_i;
+              continue;
+            }
+            const PairResult& r = result_or_zero(s, s.lower_code[slot]);  // the lower-id side's
+            force += -r.force;
+            torque += -r.torque_j;
           }
-          const PairResult& r = result_or_zero(s, s.lower_code[slot]);  // the lower-id side's
-          force += -r.force;
-          torque += -r.torque_j;
-        }
-        if constexpr (K::kRecords) {
-          for (const std::uint32_t end = s.next_record_first[i + 1]; record < end; ++record) {
-            force += records[record].force;
-            if (s.rolling) {
-              torque += (records[record].point - s.x[i]).cross(records[record].force) + records[record].rolling;
-            } else {
-              torque += (records[record].point - s.x[i]).cross(records[record].force);
+          if constexpr (K::kRecords) {
+            for (const std::uint32_t end = s.next_record_first[i + 1]; record < end; ++record) {
+              force += records[record].force;
+              if (s.rolling) {
+                torque += (records[record].point - s.x[i]).cross(records[record].force) + records[record].rolling;
+              } else {
+                torque += (records[record].point - s.x[i]).cross(records[record].force);
+              }
             }
           }
+          s.f[i] = force;
+          s.t[i] = torque;
         }
-        s.f[i] = force;
-        s.t[i] = torque;
         if (s.closing_kick) {
-          screen += close_kick(s, i);  // while f and t are in registers
-          if (s.predict_drift) drift = std::max(drift, next_drift(s, i));
+          screen += close_kicks(s, piece, piece_end);
+          if (s.predict_drift) {
+            for (std::size_t i = piece; i < piece_end; ++i) drift = std::max(drift, next_drift(s, i));
+          }
         }
       }
     }

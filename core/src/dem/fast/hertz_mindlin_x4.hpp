@@ -1,9 +1,11 @@
 #pragma once
-// Hertz-Mindlin contacts with tangential history, four at a time (AVX, 4 doubles per register).
+// Hertz-Mindlin contacts with tangential history, four at a time (AVX, 4 doubles per register)
+// or eight (AVX-512F, where the CPU has it: simd_level() avx512).
 // Private to core/src/dem/fast. The formulas are those of ppohdem/dem/contact_force.hpp and
 // ppohdem/dem/contact_law.hpp, written lane-wise with the same operations in the same order:
 // IEEE addition, multiplication, division and square root are correctly rounded in every lane
-// exactly as in scalar code, and no FMA is used (the target is "avx" without "fma"), so every
+// exactly as in scalar code, and no FMA is used ("avx" has none; the file is built with
+// -ffp-contract=off for "avx512f"), so every
 // lane's result is bitwise the scalar evaluation's (tested: FastEngine.VectorContactsAreBitwise*
 // and the fast-against-reference tests, which run this path on an AVX machine).
 //
@@ -18,6 +20,8 @@ namespace ppohdem::dem::fast {
 
 /// True if this CPU runs the AVX path (checked once; false off x86-64).
 bool x4_contacts_available();
+/// True if hertz_mindlin_x4 takes eight contacts at a time (simd_level() avx512).
+bool x8_contacts_available();
 
 /// What the law can also do for the force kernel's first pass ("Each pair once",
 /// force_kernel.cpp), in place of a second loop over the evaluated entries: add each contact
@@ -36,7 +40,8 @@ struct OwnSums {
 /// (s.result_at(code): force on i and both torques); with kEnergy also the spring's branch
 /// vectors and the entry's elastic and dissipated energy (contact_force.hpp). `dt` is the
 /// history increment interval [s]. With `sums`, also what OwnSums says; without, the entry's
-/// overlap (for the booking). Requires x4_contacts_available().
+/// overlap (for the booking). Requires x4_contacts_available(). Eight at a time where
+/// x8_contacts_available(): the same bits.
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
                       std::size_t count, double dt, OwnSums* sums = nullptr);

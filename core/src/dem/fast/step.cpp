@@ -58,12 +58,17 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
   drift_over_ranks = s.predict_drift ? std::optional<double>(record.drift()) : std::nullopt;
 }
 
+/// Particles per close_kicks call of close_step (any piece gives the same bits).
+constexpr std::size_t kKickPiece = 64;
+
 void FastEngine::Impl::close_step() {
   if (!s.kick_closed) {  // else the kernel's sum pass applied it (fast_state.hpp)
     const std::size_t owned = s.owned;  // changed if the build migrated particles
     double screen = 0.0;
     PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : screen) if (owned >= kParallelMin))
-    for (std::size_t i = 0; i < owned; ++i) screen += close_kick(s, i);
+    for (std::size_t piece = 0; piece < owned; piece += kKickPiece) {
+      screen += close_kicks(s, piece, std::min(piece + kKickPiece, owned));
+    }
     s.screen = screen;
     if (s.predict_drift) {
       double drift = 0.0;

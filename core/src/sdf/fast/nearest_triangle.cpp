@@ -179,8 +179,7 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bo
   // Query points far from the mesh round at their own scale: the larger of the two counts.
   slack_ = 1e-12 * std::max({scale, std::abs(coordinate_scale), 1e-300});
   BuildOutput out;
-  out.nodes.reserve(2 * n / kLeafSize + 2);
-  if (oriented_boxes_) out.oriented.reserve(2 * n / kLeafSize + 2);
+  reserve_nodes(out, n);
   if (n > 0) build(in, out, 0, static_cast<std::uint32_t>(n), 0);
   nodes_ = std::move(out.nodes);
   oriented_ = std::move(out.oriented);
@@ -362,6 +361,8 @@ std::uint32_t TriangleTree::build(BuildInput& in, BuildOutput& out, std::uint32_
     // The left subtree as a task, the right one here; both then appended in depth-first order,
     // so the tree is the one the serial build makes.
     BuildOutput left, right;
+    reserve_nodes(left, middle - begin);
+    reserve_nodes(right, end - middle);
 #if defined(PPOHDEM_WITH_OPENMP)
 #pragma omp task default(shared)
 #endif
@@ -381,6 +382,15 @@ std::uint32_t TriangleTree::build(BuildInput& in, BuildOutput& out, std::uint32_
   out.nodes[index] = node;
   fit_oriented_box(input, order, begin, end, index, out);
   return index;
+}
+
+void TriangleTree::reserve_nodes(BuildOutput& out, std::size_t triangles) const {
+  // At most 2 n - 1 nodes (leaves of 1 to kLeafSize triangles): the vectors never grow, so no
+  // node is copied and no freed block was first touched for nothing (fresh pages are dear:
+  // docs/performance.md "The whole voxelize process"); the capacity beyond the nodes is never
+  // touched, so it costs address space only.
+  out.nodes.reserve(2 * triangles);
+  if (oriented_boxes_) out.oriented.reserve(2 * triangles);
 }
 
 void TriangleTree::append_subtree(BuildOutput& out, const BuildOutput& subtree) const {
@@ -771,6 +781,8 @@ struct LanesAvx {
   __attribute__((target("avx"))) static inline M both(M a, M b) { return _mm256_and_pd(a, b); }
   __attribute__((target("avx"))) static inline V div(V a, V b) { return _mm256_div_pd(a, b); }
   __attribute__((target("avx"))) static inline M lt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+  __attribute__((target("avx"))) static inline M eq(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
+  __attribute__((target("avx"))) static inline V sqrt(V a) { return _mm256_sqrt_pd(a); }
   __attribute__((target("avx"))) static inline M either(M a, M b) { return _mm256_or_pd(a, b); }
   /// a and not b.
   __attribute__((target("avx"))) static inline M but(M a, M b) { return _mm256_andnot_pd(b, a); }
@@ -785,12 +797,6 @@ struct LanesAvx {
     alignas(32) static constexpr std::int64_t kLane[4][4] = {
         {-1, 0, 0, 0}, {0, -1, 0, 0}, {0, 0, -1, 0}, {0, 0, 0, -1}};
     return _mm256_blendv_pd(v, _mm256_set1_pd(x), _mm256_load_pd(reinterpret_cast<const double*>(kLane[c])));
-  }
-  /// Sum of v over the lanes of m (any order: it only orders the children).
-  __attribute__((target("avx"))) static inline double sum(M m, V v) {
-    const V a = _mm256_and_pd(v, m);
-    const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(a), _mm256_extractf128_pd(a, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
   }
 };
 
@@ -813,19 +819,14 @@ struct LanesAvx512 {
   __attribute__((target("avx512f"))) static inline M both(M a, M b) { return static_cast<M>(a & b); }
   __attribute__((target("avx512f"))) static inline V div(V a, V b) { return _mm512_maskz_div_pd(0xFF, a, b); }
   __attribute__((target("avx512f"))) static inline M lt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+  __attribute__((target("avx512f"))) static inline M eq(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
+  __attribute__((target("avx512f"))) static inline V sqrt(V a) { return _mm512_maskz_sqrt_pd(0xFF, a); }
   __attribute__((target("avx512f"))) static inline M either(M a, M b) { return static_cast<M>(a | b); }
   __attribute__((target("avx512f"))) static inline M but(M a, M b) { return static_cast<M>(a & ~b); }
   __attribute__((target("avx512f"))) static inline unsigned bits(M m) { return static_cast<unsigned>(m); }
   __attribute__((target("avx512f"))) static inline V select(M m, V a, V b) { return _mm512_mask_blend_pd(m, b, a); }
   __attribute__((target("avx512f"))) static inline V set_lane(V v, int c, double x) {
     return _mm512_mask_mov_pd(v, static_cast<M>(1u << c), _mm512_set1_pd(x));
-  }
-  __attribute__((target("avx512f"))) static inline double sum(M m, V v) {
-    const V a = _mm512_maskz_mov_pd(m, v);
-    const __m256d h =
-        _mm256_add_pd(_mm512_maskz_extractf64x4_pd(0xF, a, 0), _mm512_maskz_extractf64x4_pd(0xF, a, 1));
-    const __m128d q = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(q, _mm_unpackhi_pd(q, q)));
   }
 };
 
@@ -863,6 +864,11 @@ struct LanesAvx512Pair {
     return static_cast<M>(_mm512_cmp_pd_mask(x.r[0], y.r[0], _CMP_LT_OQ)) |
            static_cast<M>(_mm512_cmp_pd_mask(x.r[1], y.r[1], _CMP_LT_OQ)) << 8;
   }
+  PPOHDEM_PAIR M eq(V x, V y) {
+    return static_cast<M>(_mm512_cmp_pd_mask(x.r[0], y.r[0], _CMP_EQ_OQ)) |
+           static_cast<M>(_mm512_cmp_pd_mask(x.r[1], y.r[1], _CMP_EQ_OQ)) << 8;
+  }
+  PPOHDEM_PAIR V sqrt(V x) { PPOHDEM_PAIR_EACH(_mm512_maskz_sqrt_pd(0xFF, x.r[i])); }
   PPOHDEM_PAIR M both(M x, M y) { return x & y; }
   PPOHDEM_PAIR M either(M x, M y) { return x | y; }
   PPOHDEM_PAIR M but(M x, M y) { return x & ~y; }
@@ -874,21 +880,20 @@ struct LanesAvx512Pair {
     v.r[c / 8] = _mm512_mask_mov_pd(v.r[c / 8], static_cast<__mmask8>(1u << (c % 8)), _mm512_set1_pd(x));
     return v;
   }
-  PPOHDEM_PAIR double sum(M m, V v) {  // only orders the traversal: any summation order will do
-    const __m512d s = _mm512_add_pd(_mm512_maskz_mov_pd(static_cast<__mmask8>(m), v.r[0]),
-                                    _mm512_maskz_mov_pd(static_cast<__mmask8>(m >> 8), v.r[1]));
-    double t[8];
-    _mm512_storeu_pd(t, s);
-    return ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]));
-  }
 #undef PPOHDEM_PAIR_EACH
 #undef PPOHDEM_PAIR
 };
 
 /// From this many points within a triangle's box on, their distances are computed in lanes: from
 /// 1 or 2 points on they are equally fast, from 3 on slower (docs/performance.md "Trials that
-/// were dropped").
+/// were dropped"). The 16 lanes of LanesAvx512Pair measure even one point in lanes: there the
+/// scalar distance and its blend into the lane cost more (docs/performance.md "Kept
+/// optimisations").
 constexpr int kLanesMinPoints = 2;
+template <class Lanes>
+constexpr int lanes_min_points() {
+  return Lanes::kWidth >= 16 ? 1 : kLanesMinPoints;
+}
 
 // The lane traversals, one namespace per instruction set (refine_lanes.inc).
 namespace avx {
@@ -1013,10 +1018,9 @@ void TriangleTree::collect_near_box(const double lo[3], const double hi[3], doub
   }
 }
 
-std::size_t TriangleTree::memory_bytes() const {
-  return nodes_.capacity() * sizeof(Node) + oriented_.capacity() * sizeof(OrientedNode) +
-         pairs_.capacity() * sizeof(ChildPair) +
-         triangles_.capacity() * sizeof(PreparedTriangle);
+std::size_t TriangleTree::memory_bytes() const {  // in use (the reserve beyond is never touched)
+  return nodes_.size() * sizeof(Node) + oriented_.size() * sizeof(OrientedNode) + pairs_.size() * sizeof(ChildPair) +
+         triangles_.size() * sizeof(PreparedTriangle);
 }
 
 }  // namespace ppohdem::sdf::fast

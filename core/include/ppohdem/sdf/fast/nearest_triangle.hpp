@@ -42,9 +42,11 @@
 /// Lanes: one point per SIMD lane, 16 points (4 x 4 rows) per traversal in two AVX-512
 /// registers, 4 in AVX (a 16-point packet then takes four traversals of 2 x 2). Both children's bounds of all
 /// points are whole-register operations, the masks of the points within their bounds are register
-/// compares, a pending node keeps one register of bounds (NaN where a point is not active), a
-/// lowered bound is blended into its lane (reloading it from memory stalled on the store), and the
-/// distances to a regular triangle of 2 or more points within its box are computed in lanes
+/// compares, a pending node keeps one register of bounds (NaN where a point is not active), each
+/// point's minimum, triangle and prune bound stay in its lane and are lowered by blends
+/// (reloading them from memory stalled on the store), and the
+/// distances to a regular triangle of 2 or more points within its box (1 or more in the 16-lane
+/// packets) are computed in lanes
 /// (Ericson's regions in the scalar order, each lane taking the first that holds). Every lane does
 /// the scalar code's operations without FMA (nearest_triangle.cpp is compiled with
 /// -ffp-contract=off), so the results are unchanged bit for bit (docs/performance.md, "Lanes of 8
@@ -172,6 +174,7 @@ class TriangleTree {
   struct BuildInput;
   struct BuildOutput;
   std::uint32_t build(BuildInput& in, BuildOutput& out, std::uint32_t begin, std::uint32_t end, int depth);
+  void reserve_nodes(BuildOutput& out, std::size_t triangles) const;
   void append_subtree(BuildOutput& out, const BuildOutput& subtree) const;
   static double box_squared_distance(const double lo[3], const double hi[3], const Vec3& p);
 
