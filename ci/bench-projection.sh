@@ -86,26 +86,35 @@ for p in 2 4 8; do
       "$OUT/bed100k/scene.toml" --engine fast --steps $s --quiet > "$OUT/count.$p.$s.log" 2>&1
   done
 done
-$PY - "$OUT" <<'PYEOF'
+# The collectives too: the step's one allreduce (the "record" line: a derived datatype) of the
+# model's S bytes, and no allgather between list builds.
+$PY - "$OUT" "$ROOT/validation/projection" <<'PYEOF'
 import csv, re, sys
 out = sys.argv[1]
+sys.path.insert(0, sys.argv[2])
+from scaling_model import RECORD_BYTES
 rows = list(csv.DictReader(open(out + '/bed100k.csv')))
-print('| ranks | rank | sent B/step (counted) | dry run | messages/step (counted) | dry run |')
-print('|---|---|---|---|---|---|')
+print('| ranks | rank | sent B/step (counted) | dry run | messages/step (counted) | dry run | '
+      'allreduces of S B/step (counted) | model | allgathers/step |')
+print('|---|---|---|---|---|---|---|---|---|')
 bad = 0
 for p in (2, 4, 8):
     d = {}
     for s in (10, 30):
         for line in open('%s/count.%d.%d.log' % (out, p, s)):
-            m = re.match(r'mpicount rank (\d+) send calls (\d+) bytes (\d+)', line)
+            m = re.match(r'mpicount rank (\d+) (\S+) calls (\d+) bytes (\d+)', line)
             if m:
-                d[(s, int(m[1]))] = (int(m[2]), float(m[3]))
+                d[(s, int(m[1]), m[2])] = (int(m[3]), float(m[4]))
     for r in range(p):
         row = [x for x in rows if int(x['ranks']) == p and int(x['rank']) == r][0]
-        sent = (d[(30, r)][1] - d[(10, r)][1]) / 20
-        calls = (d[(30, r)][0] - d[(10, r)][0]) / 20
+        per_step = lambda kind, k: (d[(30, r, kind)][k] - d[(10, r, kind)][k]) / 20
+        sent, calls = per_step('send', 1), per_step('send', 0)
+        records, record_bytes, gathers = per_step('record', 0), per_step('record', 1), per_step('allgather', 0)
         bad += sent != float(row['refresh_bytes_out']) or calls != float(row['messages_out'])
-        print('| %d | %d | %.0f | %s | %.2f | %s |' % (p, r, sent, row['refresh_bytes_out'], calls, row['messages_out']))
+        bad += records != 1 or record_bytes != RECORD_BYTES or gathers != 0
+        print('| %d | %d | %.0f | %s | %.2f | %s | %.2f x %.0f | 1 x %d | %.2f |'
+              % (p, r, sent, row['refresh_bytes_out'], calls, row['messages_out'], records,
+                 record_bytes / records if records else 0, RECORD_BYTES, gathers))
 sys.exit(1 if bad else 0)
 PYEOF
 

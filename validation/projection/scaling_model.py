@@ -5,30 +5,29 @@ measured compute costs, and a stated network.
 
     /usr/bin/python3 validation/projection/scaling_model.py CSV [CSV ...] [--weak] [options]
 
-One time step of rank r (the step ends in collectives, so the slowest rank sets the pace):
+One time step of rank r (the step ends in a collective, so the slowest rank sets the pace):
 
   T(P) = max_r [ c (n_r (1 + beta) + alpha g_r) + L m_r + b_r / B ]      compute + halo refresh
-       + ceil(log2 P) L (1 + 2 + 1) + (P - 1) s_gather / B                 max allreduce, allgather
-       + ceil(log2 P) S_sums / B                                          + the exact sums' allreduce
-       + [ 4 L p_r + g_r e / B + 2 ceil(log2 P) L ] / k                  a list build every k steps
+       + ceil(log2 P) (L + S / B)                                         the step's one allreduce
+       + [ 4 L p_r + g_r e / B + 4 ceil(log2 P) L + (P - 1) 4 / B ] / k   a list build every k steps
 
   n_r, g_r   owned particles and ghosts of rank r (the CSV); m_r = max(messages in, out) and
              b_r = max(bytes in, out) of the per-step refresh (one message per peer holding
-             ghosts; 120 B per ghost); p_r peers (a build's ghost creation and migration each
-             send a count and a block to every peer); e = 298 B per created ghost
+             ghosts; 48 B per ghost: its owner's half kick); p_r peers (a build's ghost creation and migration each
+             send a count and a block to every peer); e = 266 B per created ghost
   c          compute per particle-step on one rank here [s] (measured; --c)
   beta       extra compute per owned particle when the rank has ghosts (callgrind; --beta)
   alpha      extra compute per ghost (callgrind; --alpha)
   L, B       network latency per message [s] and bandwidth [B/s] (--latency, --bandwidth);
              messages are charged one after the other (no overlap: an upper bound)
-  s_gather   bytes per rank of the per-step allgather (count and deepest contact: 4 + 59)
-  S_sums     bytes of the exact sums' allreduce (3,928 B: the 7 energy sums of 70 words; the
-             rates of a step, docs/dem.md "Energy book-keeping"; plus the 8-byte max)
-  k          steps per list build (--steps-per-build)
-
---merged-collectives models a proposed change instead of today's code: the max allreduce, the
-allgather and the sums' allreduce merged into one allreduce of the sums' words plus a few
-(collectives = ceil(log2 P) (L + S_sums / B)).
+  S          bytes of the step's allreduce (core/src/dem/fast/step_record.hpp, StepRecord):
+             1,776 B with the energies tracked (counts, screen, the rates' 3 exact sums of 70
+             words, the next drift's maximum, the deepest contact), 96 B untracked (--no-sums)
+  k          steps per list build (--steps-per-build); a build adds 5 collectives to its
+             step's one (counted by DemFastMpi.OneCollectiveAStepOn*Ranks): the migration's
+             vote on a fallback to all ranks, the balance check's max and mean, the lost
+             histories' allgather (a count and a block: 4 bytes a rank when none is lost); a
+             re-cut's own bisection (18-37 more at 2-4 ranks, rare) is left out
 
 Strong scaling: E(P) = c N / (P T(P)). Weak scaling (--weak: the CSV's beds hold the same
 particles per rank): E(P) = c n / T(P), n the particles per rank.
@@ -46,10 +45,11 @@ import math
 import sys
 from collections import defaultdict
 
-REFRESH_BYTES = 120      # per ghost per step (5 vectors of 3 doubles; ppohdem project prints it)
-CREATION_BYTES = 298     # per ghost at its creation (ppohdem project prints it)
-GATHER_BYTES = 4 + 59    # per rank per step: MPI_Allgather of the count, MPI_Allgatherv of the block
-SUMS_BYTES = 3928        # the exact sums' allreduce per step (7 x 70 words), plus the 8-byte max
+REFRESH_BYTES = 48       # per ghost per step (a half kick: 2 vectors of 3 doubles; ppohdem project prints it)
+CREATION_BYTES = 266     # per ghost at its creation (ppohdem project prints it)
+RECORD_BYTES = 8 * (1 + 4 + 3 * 70 + 1 + 6)   # StepRecord, energies tracked (dem_step_record_test)
+RECORD_BYTES_UNTRACKED = 8 * (1 + 4 + 1 + 6)  # StepRecord, energies untracked
+BUILD_COLLECTIVES = 5    # a list build's own, besides its step's allreduce (see k above)
 
 
 def read_ranks(path):
@@ -75,16 +75,11 @@ def step_time(rows, p, a):
         b = max(r['refresh_bytes_in'], r['refresh_bytes_out'])
         h = m * a.latency + b / a.bandwidth
         bl = (4 * r['peers'] * a.latency + max(r['creation_bytes_in'], r['creation_bytes_out']) / a.bandwidth
-              + 2 * lg * a.latency) / a.steps_per_build
+              + BUILD_COLLECTIVES * lg * a.latency + (p - 1) * 4 / a.bandwidth) / a.steps_per_build
         if work + h + bl > compute + halo + build:
             compute, halo, build = work, h, bl
-    collectives = 0.0
-    if p > 1 and a.merged_collectives:
-        collectives = lg * (a.latency + SUMS_BYTES / a.bandwidth)
-    elif p > 1:
-        collectives = lg * a.latency * 4 + (p - 1) * GATHER_BYTES / a.bandwidth
-        if a.sums:
-            collectives += lg * SUMS_BYTES / a.bandwidth
+    record = RECORD_BYTES if a.sums else RECORD_BYTES_UNTRACKED
+    collectives = lg * (a.latency + record / a.bandwidth)
     return compute + halo + build + collectives, compute, halo, build, collectives
 
 
@@ -99,7 +94,6 @@ def main():
     ap.add_argument('--bandwidth', type=float, default=10.0e9, help='[B/s]')
     ap.add_argument('--steps-per-build', type=float, default=60.0)
     ap.add_argument('--no-sums', dest='sums', action='store_false', help='energies untracked')
-    ap.add_argument('--merged-collectives', action='store_true', help='a proposed change: one allreduce a step')
     ap.add_argument('--here', type=int, default=0, help='the check: ranks share this many cores')
     ap.add_argument('--steps', type=int, default=0, help='the check: steps of the measured loop')
     ap.add_argument('--measured', default='', help='the check: P:SECONDS,... measured loop times')
@@ -108,9 +102,9 @@ def main():
         return check_here(a)
     for path in a.csv:
         by_p = read_ranks(path)
-        print('\n%s: c = %.3g s, beta = %.3g, alpha = %.3g, L = %.3g s, B = %.3g B/s, a build every %g steps%s%s'
+        print('\n%s: c = %.3g s, beta = %.3g, alpha = %.3g, L = %.3g s, B = %.3g B/s, a build every %g steps%s'
               % (path, a.c, a.beta, a.alpha, a.latency, a.bandwidth, a.steps_per_build,
-                 '' if a.sums else ', energies untracked', ', merged collectives' if a.merged_collectives else ''))
+                 '' if a.sums else ', energies untracked'))
         print('| ranks | particles | per rank | compute [ms] | halo [ms] | builds [ms] | collectives [ms] | step [ms] | '
               '%s efficiency |' % ('weak' if a.weak else 'strong'))
         print('|---|---|---|---|---|---|---|---|---|')

@@ -26,6 +26,20 @@ int to_int_count(std::size_t n) {
   return static_cast<int>(n);
 }
 
+/// The combine function of the allreduce in progress (combine_over_ranks): only the master
+/// thread calls MPI (MPI_THREAD_FUNNELED), so one slot serves.
+CombineWords current_combine = nullptr;
+
+/// The MPI operation behind combine_over_ranks: `len` records of the contiguous type `type`.
+void apply_combine(void* in, void* inout, int* len, MPI_Datatype* type) {
+  int bytes = 0;
+  MPI_Type_size(*type, &bytes);
+  const auto words = static_cast<std::size_t>(bytes) / sizeof(std::int64_t);
+  const auto* from = static_cast<const std::int64_t*>(in);
+  auto* to = static_cast<std::int64_t*>(inout);
+  for (int k = 0; k < *len; ++k) current_combine(from + k * words, to + k * words, words);
+}
+
 class MpiComm final : public Comm {
  public:
   int rank() const override {
@@ -38,7 +52,10 @@ class MpiComm final : public Comm {
     check(MPI_Comm_size(MPI_COMM_WORLD, &s), "MPI_Comm_size");
     return s;
   }
-  void barrier() const override { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
+  void barrier() const override {
+    ++collectives_;
+    check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
+  }
 
   std::vector<double> gather_to_root(std::span<const double> local) const override {
     return gather<double>(local, MPI_DOUBLE);
@@ -49,10 +66,30 @@ class MpiComm final : public Comm {
   double max_over_ranks(double value) const override { return reduce(value, MPI_MAX); }
   double sum_over_ranks(double value) const override { return reduce(value, MPI_SUM); }
   void sum_over_ranks(std::span<std::int64_t> values) const override {
+    ++collectives_;
     check(MPI_Allreduce(MPI_IN_PLACE, values.data(), to_int_count(values.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
           "MPI_Allreduce");
   }
+  // The record is ONE element of a contiguous type, so that no algorithm of the allreduce cuts
+  // it into pieces (a segmented ring would otherwise apply the operation to parts of records).
+  // The type and the operation are made once (a record keeps its size for a run) and kept until
+  // MPI_Finalize, which frees them: this object outlives it (CommEnvironment).
+  void combine_over_ranks(std::span<std::int64_t> record, CombineWords combine) const override {
+    ++collectives_;
+    if (combine_op_ == MPI_OP_NULL) check(MPI_Op_create(&apply_combine, /*commute=*/1, &combine_op_), "MPI_Op_create");
+    if (record_words_ != record.size()) {
+      if (record_type_ != MPI_DATATYPE_NULL) check(MPI_Type_free(&record_type_), "MPI_Type_free");
+      check(MPI_Type_contiguous(to_int_count(record.size()), MPI_INT64_T, &record_type_), "MPI_Type_contiguous");
+      check(MPI_Type_commit(&record_type_), "MPI_Type_commit");
+      record_words_ = record.size();
+    }
+    current_combine = combine;
+    const int code = MPI_Allreduce(MPI_IN_PLACE, record.data(), 1, record_type_, combine_op_, MPI_COMM_WORLD);
+    current_combine = nullptr;
+    check(code, "MPI_Allreduce");
+  }
   double broadcast_from_root(double value) const override {
+    ++collectives_;
     check(MPI_Bcast(&value, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD), "MPI_Bcast");
     return value;
   }
@@ -70,6 +107,7 @@ class MpiComm final : public Comm {
       send_offsets[r] = to_int_count(send_total);
       send_total += to[r].size();
     }
+    collectives_ += 2;  // the counts' MPI_Alltoall and the bytes' MPI_Alltoallv
     check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD),
           "MPI_Alltoall");
     std::size_t recv_total = 0;
@@ -157,6 +195,7 @@ class MpiComm final : public Comm {
     const int ranks = size();
     int count = to_int_count(local.size());
     std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks));
+    collectives_ += 2;  // the counts' MPI_Allgather and the bytes' MPI_Allgatherv
     check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
     std::size_t total = 0;
     for (std::size_t r = 0; r < counts.size(); ++r) {
@@ -175,14 +214,20 @@ class MpiComm final : public Comm {
   }
 
  private:
+  mutable MPI_Op combine_op_ = MPI_OP_NULL;                ///< combine_over_ranks' operation
+  mutable MPI_Datatype record_type_ = MPI_DATATYPE_NULL;  ///< its record type, of record_words_
+  mutable std::size_t record_words_ = 0;
+
   double reduce(double value, MPI_Op op) const {
     double result = 0.0;
+    ++collectives_;
     check(MPI_Allreduce(&value, &result, 1, MPI_DOUBLE, op, MPI_COMM_WORLD), "MPI_Allreduce");
     return result;
   }
 
   std::vector<double> reduce_each(std::vector<double> values, MPI_Op op) const {
     std::vector<double> result(values.size());
+    ++collectives_;
     check(MPI_Allreduce(values.data(), result.data(), to_int_count(values.size()), MPI_DOUBLE, op, MPI_COMM_WORLD),
           "MPI_Allreduce");
     return result;
@@ -194,6 +239,7 @@ class MpiComm final : public Comm {
     const int me = rank();
     const int count = to_int_count(local.size());
     std::vector<int> counts(static_cast<std::size_t>(ranks), 0);
+    collectives_ += 2;  // the counts' MPI_Gather and the values' MPI_Gatherv
     check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
     std::vector<int> offsets(static_cast<std::size_t>(ranks), 0);
     std::vector<T> all;

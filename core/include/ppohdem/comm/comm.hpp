@@ -17,6 +17,10 @@ namespace ppohdem {
 /// A message: raw bytes (packed and unpacked by the caller, e.g. core/src/dem/fast/pack.hpp).
 using Bytes = std::vector<unsigned char>;
 
+/// Combines the record `in` into `inout` (both `words` long), as a reduction over ranks does:
+/// commutative and associative, so the ranks' records combine in any order to the same result.
+using CombineWords = void (*)(const std::int64_t* in, std::int64_t* inout, std::size_t words);
+
 class Comm {
  public:
   virtual ~Comm() = default;
@@ -35,6 +39,10 @@ class Comm {
   /// Elementwise sum of `values` over all ranks, in place on every rank (exact: integers; the
   /// words of exact sums, ppohdem/dem/exact_sum.hpp). Collective.
   virtual void sum_over_ranks(std::span<std::int64_t> values) const = 0;
+  /// Every rank's `record` combined by `combine`, in place on every rank: ONE allreduce of the
+  /// record (a fixed size, the same on every rank) with `combine` as its operation: what a DEM
+  /// step needs from every rank at once (docs/dem.md "One collective a step"). Collective.
+  virtual void combine_over_ranks(std::span<std::int64_t> record, CombineWords combine) const = 0;
   /// Rank 0's `value` on every rank.
   virtual double broadcast_from_root(double value) const = 0;
   /// Personalised all-to-all: `to[r]` (to.size() == size()) goes to rank r; returns `from`
@@ -58,12 +66,17 @@ class Comm {
   /// (exchange(): one count and one block to every other rank, 2 (P - 1); the collectives of
   /// the sums are not counted): the figure of docs/dem.md "Neighbour-only exchanges".
   std::uint64_t messages_sent() const { return messages_sent_; }
+  /// Collective operations this rank has entered so far (every MPI collective call: barrier,
+  /// reductions, gathers, broadcasts; exchange() counts its two): what a step costs in latency
+  /// on many ranks (docs/performance.md "The cost model"). Zero on one rank (no collectives).
+  std::uint64_t collectives() const { return collectives_; }
   /// Ends every rank of the program with exit status `code` (MPI_Abort): for an error met by
   /// some ranks only, which would otherwise leave the others waiting in a collective.
   [[noreturn]] virtual void abort(int code) const = 0;
 
  protected:
   mutable std::uint64_t messages_sent_ = 0;
+  mutable std::uint64_t collectives_ = 0;
 };
 
 /// One rank: gather returns the block itself, reductions return their argument.
@@ -81,6 +94,7 @@ class SerialComm final : public Comm {
   double max_over_ranks(double value) const override { return value; }
   double sum_over_ranks(double value) const override { return value; }
   void sum_over_ranks(std::span<std::int64_t>) const override {}
+  void combine_over_ranks(std::span<std::int64_t>, CombineWords) const override {}
   double broadcast_from_root(double value) const override { return value; }
   /// One rank sends to itself: the block is copied (real behaviour, not a no-op).
   std::vector<Bytes> exchange(const std::vector<Bytes>& to) const override {

@@ -190,7 +190,7 @@ struct FastEngine::Impl {
   bool skip_far_objects = true;  ///< FastOptions::skip_far_objects
   long steps = 0;
   long builds = 0;
-  /// The cumulative energy terms, summed at every evaluation (add_step_sums) [J].
+  /// The cumulative energy terms, summed at every evaluation (add_rates) [J].
   double dissipated = 0.0;
   double boundary_work = 0.0;
   double power = 0.0;  ///< P(n) of the last evaluation [W]
@@ -208,6 +208,10 @@ struct FastEngine::Impl {
   std::size_t escaped = 0;  ///< whole system (not kept up to date when lazy_sums())
   /// Several ranks: every rank's close_kick screen was finite at the last evaluation.
   bool screens_finite = true;
+  /// Several ranks: the next drift's largest |x - x_build|^2 over every rank, from the last
+  /// closing evaluation's allreduce (next_drift, fast_state.hpp); empty when not known (after a
+  /// (re)load or a non-closing evaluation): step() then asks the ranks after its drift.
+  std::optional<double> drift_over_ranks;
   mutable Particles out;  ///< particles() in construction order (whole system)
   mutable bool out_valid = false;
   // Halo plan (built at every list build, applied after every drift): send[i] = storage indices
@@ -215,11 +219,12 @@ struct FastEngine::Impl {
   // how many ghosts came from peers[i] (stored contiguously after the owned ones, by peer).
   std::vector<std::vector<std::uint32_t>> halo_send;
   std::vector<std::uint32_t> halo_recv;
+  std::vector<Bytes> halo_kicks;  ///< pack_ghost_kicks' messages, one per peer (reused)
   /// Histories dropped at the last list build: (construction index, partner id, energy) [J].
   std::vector<std::tuple<std::uint32_t, std::int64_t, double>> lost_terms;
 
   bool distributed() const { return comm->size() > 1; }
-  /// One rank: the escaped count is counted when asked (several ranks gather it with every
+  /// One rank: the escaped count is counted when asked (several ranks reduce it with every
   /// evaluation's counts). On any rank count the energies and the boundary loads are summed
   /// when asked, never in a step, and the run checks screen the motion with close_kick's screen
   /// (motion_finite). Why: a per-step sum is a pass over every particle that nothing reads
@@ -267,11 +272,15 @@ struct FastEngine::Impl {
   /// range 2 R_max + skin of rank r's brick goes to rank r with all its fields.
   void make_ghosts();
 
-  /// The halo plan applied: the moving fields of the ghosts from their owners. A message holds
-  /// the moving arrays one after the other (all the x, then all the v, ...), sized once and
-  /// copied value by value without a Packer (appending value by value was a large share of a
-  /// 2-rank step: docs/performance.md "Ranks gather once per evaluation").
-  void refresh_ghosts();
+  /// The halo plan's messages of this step, before the drift: for each peer the first half
+  /// kicks (first_half_kick) of the particles it holds as ghosts, in the plan's order.
+  void pack_ghost_kicks(bool cached);
+
+  /// The halo plan applied after the drift: each ghost gets its owner's half kick and repeats
+  /// its owner's arithmetic (kick_and_drift, after the closing kick's v += kick when `cached`),
+  /// so its moving fields are its owner's bits: 48 bytes a ghost instead of the 120 of x, v,
+  /// omega, pv, pw (docs/dem.md "Domain decomposition").
+  void refresh_ghosts(bool cached);
 
   /// A list build: migration (several ranks), sort of the owned particles by cell, ghosts,
   /// then the full neighbour list of the owned particles (pairs closer than R_i + R_j + skin,
@@ -332,7 +341,8 @@ struct FastEngine::Impl {
   void add_lost_energy();
 
   /// A force evaluation. `closing_kick` (a step): the second half kick follows the kernel (or
-  /// runs in its sum pass). Sums nothing over the particles; several ranks gather the counts.
+  /// runs in its sum pass). One rank: sums the rates only (energies tracked); several ranks:
+  /// one allreduce of a StepRecord (step_record.hpp) and nothing else.
   void evaluate_forces(double history_dt, bool closing_kick = false);
   /// s.reach for the evaluation at `time` [s] (step.cpp).
   void update_reach(double time);
@@ -378,9 +388,9 @@ struct FastEngine::Impl {
   /// allreduce).
   Energies sum_energies() const;
 
-  /// Energies tracked: the rates of one evaluation (dissipated, boundary work and power: exact
-  /// sums over the owned particles, merged over the ranks) added to the cumulative terms.
-  void add_step_sums(double history_dt);
+  /// Energies tracked: the rates of one evaluation (rates[0..3): dissipated, boundary work and
+  /// power, exact sums over the particles of every rank) added to the cumulative terms.
+  void add_rates(const ExactSum* rates, double history_dt);
 
   /// The second half kick of every owned particle (close_kick, fast_state.hpp) unless the
   /// kernel's sum pass applied it; the next step's first half kick reuses it.

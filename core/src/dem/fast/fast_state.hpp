@@ -93,6 +93,7 @@ struct alignas(64) ThreadOutput {
   std::optional<LargestOverlap> deepest;     ///< of this thread's contacts
   std::size_t base = 0;                      ///< offset of `records` in the merged records
   double screen = 0.0;  ///< the sum of close_kick's screens over this range's particles
+  double drift = 0.0;   ///< the largest next_drift of this range's particles (predict_drift)
   /// Spring codes of this range's contacts that ended since the pools were laid out: reused
   /// for its next new contacts, so a bed whose contacts open and close between list builds
   /// does not grow its pools (friction only; emptied by lay_out_springs).
@@ -268,8 +269,13 @@ struct FastState {
   /// [contact] rolling is on: contacts add a rolling torque besides r x F (rolling_resistance.hpp)
   bool rolling = false;
   bool kick_closed = false;
+  /// Set by the engine with several ranks: the closing kick also finds the largest next_drift,
+  /// so that the next step's rebuild decision travels in this step's one allreduce.
+  bool predict_drift = false;
   /// The sum of close_kick's screens over the owned particles at the last closing kick.
   double screen = 0.0;
+  /// The largest next_drift over the owned particles at the last closing kick (predict_drift).
+  double next_drift = 0.0;
   // --- results of the last evaluation ---
   std::size_t pair_contacts = 0;
   std::size_t boundary_contacts = 0;
@@ -491,6 +497,39 @@ inline double close_kick(FastState& s, std::size_t i) {
   s.v[i] += s.pv[i];
   s.w[i] += s.pw[i];
   return s.v[i].squaredNorm() + s.w[i].squaredNorm();
+}
+
+/// The first half kick of particle i in a step, dt/2 (a, alpha): the one the closing kick of
+/// the previous step left in pv, pw when `cached`, else from f, t (after a (re)load).
+struct HalfKick {
+  Vec3 v;  ///< [m/s]
+  Vec3 w;  ///< [1/s]
+};
+inline HalfKick first_half_kick(const FastState& s, std::size_t i, bool cached) {
+  if (cached) return {s.pv[i], s.pw[i]};
+  const double half = 0.5 * s.dt;
+  return {Vec3(half * (s.f[i] / s.mass[i] + s.gravity)), Vec3(half * s.t[i] / s.inertia[i])};
+}
+
+/// The half kick and drift of particle i (the reference's expressions, so the same bits),
+/// with pv, pw the predicted velocities the force pass reads. The owner applies it to its
+/// particles and each rank to its ghosts, from the same kick (halo.cpp), so a ghost keeps
+/// its owner's bits.
+inline void kick_and_drift(FastState& s, std::size_t i, const HalfKick& k) {
+  s.v[i] += k.v;
+  s.w[i] += k.w;
+  s.x[i] += s.dt * s.v[i];
+  s.pv[i] = s.v[i] + k.v;
+  s.pw[i] = s.w[i] + k.w;
+}
+
+/// |x - x_build|^2 of particle i after the next step's drift, right after its closing kick:
+/// that drift is v += pv, x += dt v (FastEngine::Impl::step), here with the same expressions,
+/// so the same bits (docs/dem.md "One collective a step").
+inline double next_drift(const FastState& s, std::size_t i) {
+  const Vec3 v = s.v[i] + s.pv[i];
+  const Vec3 x = s.x[i] + s.dt * v;
+  return (x - s.x_build[i]).squaredNorm();
 }
 
 /// close_kick of particles [begin, end), eight at a time where the CPU has AVX-512F (the same

@@ -69,6 +69,7 @@ inline void sum_pass(FastState& s, std::size_t ranges, std::size_t n, bool has_g
     const std::size_t begin = sum_cut(s, range, ranges, n);
     const std::size_t last = sum_cut(s, range + 1, ranges, n);
     double screen = 0.0;  // close_kick's
+    double drift = 0.0;   // the largest next_drift (predict_drift)
     // The particles in pieces, one per pair-pass range they fall in: that range's block holds
     // their new boundary records, particle i's from the previous particle's end to
     // next_record_first[i + 1] (from the block's start for the range's first particle, whose
@@ -118,10 +119,16 @@ inline void sum_pass(FastState& s, std::size_t ranges, std::size_t n, bool has_g
           s.f[i] = force;
           s.t[i] = torque;
         }
-        if (s.closing_kick) screen += close_kicks(s, piece, piece_end);
+        if (s.closing_kick) {
+          screen += close_kicks(s, piece, piece_end);
+          if (s.predict_drift) {
+            for (std::size_t i = piece; i < piece_end; ++i) drift = std::max(drift, next_drift(s, i));
+          }
+        }
       }
     }
     s.threads[range].screen = screen;
+    s.threads[range].drift = drift;
     s.sum_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - sums_started).count();
   }
 }
@@ -184,7 +191,11 @@ inline void gather_ranges(FastState& s, std::size_t ranges, std::size_t n, std::
     s.kick_closed = s.closing_kick;
     if (s.closing_kick) {
       s.screen = 0.0;
-      for (std::size_t range = 0; range < ranges; ++range) s.screen += s.threads[range].screen;
+      s.next_drift = 0.0;
+      for (std::size_t range = 0; range < ranges; ++range) {
+        s.screen += s.threads[range].screen;
+        s.next_drift = std::max(s.next_drift, s.threads[range].drift);
+      }
     }
     if (++s.sum_evaluations >= kSumRecut) {
       s.sum_share = timed_shares(ranges, s.sum_share, s.sum_seconds);

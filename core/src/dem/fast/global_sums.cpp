@@ -80,20 +80,12 @@ Energies FastEngine::Impl::sum_energies() const {
   return totals;
 }
 
-void FastEngine::Impl::add_step_sums(double history_dt) {
-  EvaluationSums sums = sum_owned(true, false, false);
-  ExactSum* e = sums.energy();
-  EvaluationSums rates(0);  // without the loads: the allreduce carries the energy sums only
-  if (distributed()) {
-    for (std::size_t c = 0; c < EvaluationSums::kEnergies; ++c) rates.energy()[c] = e[c];
-    rates.merge_over_ranks(*comm);
-    e = rates.energy();
-  }
-  dissipated += e[1].value();
-  boundary_work += e[2].value();
+void FastEngine::Impl::add_rates(const ExactSum* rates, double history_dt) {
+  dissipated += rates[0].value();
+  boundary_work += rates[1].value();
   // W = (P(n) + P(n+1)) dt / 2 (contact_force.hpp "Moving boundaries"); the start-up
   // evaluation (dt = 0) records P(0).
-  const double p = e[3].value();
+  const double p = rates[2].value();
   boundary_work += 0.5 * (power + p) * history_dt;
   power = p;
 }

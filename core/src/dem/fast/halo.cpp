@@ -1,5 +1,6 @@
 // The halo plan: which owned particles each rank holds as ghosts (built at a list build),
-// and the refresh of the ghosts' moving fields after every drift.
+// and the refresh of the ghosts' moving fields after every drift: their owners' half kicks,
+// from which each ghost repeats its owner's arithmetic.
 #include "engine_impl.hpp"
 
 namespace ppohdem::dem::fast {
@@ -36,41 +37,46 @@ void FastEngine::Impl::make_ghosts() {
   }
 }
 
-void FastEngine::Impl::refresh_ghosts() {
-  if (!distributed()) return;
-  static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 array is a plain array of doubles");
-  constexpr std::size_t kMovingArrays = 5;  // for_each_moving_array
+void FastEngine::Impl::pack_ghost_kicks(bool cached) {
   const std::size_t ranks = halo_send.size();
-  std::vector<Bytes> to(ranks);
-  std::vector<std::size_t> sizes(ranks);  // known from the plan: one message each way
-  for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * kMovingArrays * sizeof(Vec3);
+  halo_kicks.resize(ranks);
   for (std::size_t r = 0; r < ranks; ++r) {
     const std::vector<std::uint32_t>& send = halo_send[r];
-    to[r].resize(send.size() * kMovingArrays * sizeof(Vec3));
-    unsigned char* write = to[r].data();
-    for_each_moving_array(s, [&](const std::vector<Vec3>& a) {
-      for (const std::uint32_t k : send) {
-        std::memcpy(write, a[k].data(), sizeof(Vec3));
-        write += sizeof(Vec3);
-      }
-    });
+    halo_kicks[r].resize(send.size() * sizeof(HalfKick));
+    unsigned char* write = halo_kicks[r].data();
+    for (const std::uint32_t k : send) {
+      const HalfKick kick = first_half_kick(s, k, cached);
+      std::memcpy(write, kick.v.data(), sizeof(Vec3));
+      std::memcpy(write + sizeof(Vec3), kick.w.data(), sizeof(Vec3));
+      write += sizeof(HalfKick);
+    }
   }
-  const std::vector<Bytes> from = comm->exchange_with(peers, to, &sizes);
+}
+
+void FastEngine::Impl::refresh_ghosts(bool cached) {
+  if (!distributed()) return;
+  static_assert(sizeof(HalfKick) == 2 * sizeof(Vec3) && sizeof(Vec3) == 3 * sizeof(double), "plain doubles");
+  const std::size_t ranks = halo_send.size();
+  std::vector<std::size_t> sizes(ranks);  // known from the plan: one message each way
+  for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * sizeof(HalfKick);
+  const std::vector<Bytes> from = comm->exchange_with(peers, halo_kicks, &sizes);
   ++exchanges;
   std::size_t g = s.owned;
   for (std::size_t r = 0; r < ranks; ++r) {
     const std::size_t count = halo_recv[r];
-    if (from[r].size() != count * kMovingArrays * sizeof(Vec3)) {
-      throw std::logic_error("fast engine: a halo message of the wrong size");
-    }
+    if (from[r].size() != count * sizeof(HalfKick)) throw std::logic_error("fast engine: a halo message of the wrong size");
     const unsigned char* read = from[r].data();
-    for_each_moving_array(s, [&](std::vector<Vec3>& a) {
-      for (std::size_t c = 0; c < count; ++c) {
-        std::memcpy(a[g + c].data(), read, sizeof(Vec3));
-        read += sizeof(Vec3);
+    for (std::size_t c = 0; c < count; ++c, ++g) {
+      HalfKick kick;
+      std::memcpy(kick.v.data(), read, sizeof(Vec3));
+      std::memcpy(kick.w.data(), read + sizeof(Vec3), sizeof(Vec3));
+      read += sizeof(HalfKick);
+      if (cached) {  // the owner's closing kick of the last step (close_kick)
+        s.v[g] += kick.v;
+        s.w[g] += kick.w;
       }
-    });
-    g += count;
+      kick_and_drift(s, g, kick);
+    }
   }
 }
 

@@ -7,6 +7,7 @@ namespace ppohdem::dem::fast {
 void FastEngine::Impl::load_particles(const Particles& particles) {
   auto& q = s;
   kick_cached = false;
+  drift_over_ranks.reset();
   energies_cache.reset();
   restored_elastic.reset();
   for_each_particle_array(q, [](auto& a) { a.clear(); });

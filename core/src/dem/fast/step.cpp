@@ -1,6 +1,9 @@
 // One time step of the fast engine: velocity Verlet (reference_engine.cpp has the formulas),
 // list builds when a particle has moved half the skin, the force evaluation.
+#include <cstdio>
+
 #include "engine_impl.hpp"
+#include "step_record.hpp"
 
 namespace ppohdem::dem::fast {
 
@@ -15,61 +18,44 @@ void FastEngine::Impl::update_reach(double time) {
 void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
   s.closing_kick = closing_kick;
   s.kick_closed = false;
+  s.predict_drift = closing_kick && distributed();
   const double time = static_cast<double>(steps) * s.dt;
   update_reach(time);
   kernel->evaluate(s, time, history_dt);
   energies_cache.reset();
   restored_elastic.reset();
   if (closing_kick) close_step();
-  // The energies of the state, boundary_loads() and (one rank) escaped_count() sum when
-  // asked; the energies' rates every evaluation.
-  if (energy_balance) add_step_sums(history_dt);
   loads_stale = true;
   out_valid = false;
-  if (lazy_sums()) return;
-  // What the run needs from every rank, in ONE allgather of a few bytes per rank: the counts,
-  // the deepest contact and the screen of the motion. The energies and the loads are exact
-  // sums merged by one allreduce of fixed size when asked (sum_energies, sum_loads), O(1) per
-  // rank whatever N.
-  {
-    Bytes mine;
-    Packer pk(mine);
-    pk.put(static_cast<std::uint64_t>(s.pair_contacts));
-    pk.put(static_cast<std::uint64_t>(s.boundary_contacts));
-    pk.put(static_cast<std::uint64_t>(count_escaped()));
-    pk.put(static_cast<std::uint8_t>(std::isfinite(s.screen) ? 1 : 0));
-    pk.put(static_cast<std::uint8_t>(s.deepest ? 1 : 0));
-    if (s.deepest) {
-      pk.put(s.deepest->ratio);
-      pk.put(s.deepest->overlap);
-      pk.put(s.deepest->id_a);
-      pk.put(s.deepest->id_b);
-      pk.put(s.deepest->boundary);
-    }
-    s.pair_contacts = 0;
-    s.boundary_contacts = 0;
-    escaped = 0;
-    screens_finite = true;
-    s.deepest.reset();
-    for (const Bytes& block : comm->allgather(mine)) {
-      Unpacker u(block);
-      s.pair_contacts += u.get<std::uint64_t>();
-      s.boundary_contacts += u.get<std::uint64_t>();
-      escaped += u.get<std::uint64_t>();
-      const bool screen_finite_there = u.get<std::uint8_t>() != 0;  // read whatever the flags so far
-      screens_finite = screens_finite && screen_finite_there;
-      if (u.get<std::uint8_t>() != 0) {
-        // keep_deeper is a total order, so the rank order does not matter.
-        LargestOverlap c;
-        u.get(c.ratio);
-        u.get(c.overlap);
-        u.get(c.id_a);
-        u.get(c.id_b);
-        u.get(c.boundary);
-        keep_deeper(s.deepest, c);
-      }
-    }
+  // The energies of the state, boundary_loads() and (one rank) escaped_count() sum when
+  // asked; the energies' rates every evaluation.
+  if (lazy_sums()) {
+    if (energy_balance) add_rates(sum_owned(true, false, false).energy() + 1, history_dt);
+    return;
   }
+  // What the run needs from every rank, in ONE allreduce of a fixed-size record (StepRecord):
+  // the counts, the screen, the rates, the deepest contact, and the next drift's largest
+  // displacement, so that the next step needs no collective before its list-build decision.
+  // O(1) per rank whatever N and P (docs/dem.md "One collective a step").
+  StepRecord record(energy_balance);
+  record.set_counts(s.pair_contacts, s.boundary_contacts, count_escaped(), std::isfinite(s.screen));
+  if (energy_balance) {
+    EvaluationSums mine = sum_owned(true, false, false);
+    record.set_rates(mine.energy() + 1);
+  }
+  record.set_drift(s.predict_drift ? s.next_drift : 0.0);
+  record.set_deepest(s.deepest);
+  comm->combine_over_ranks(record.words(), &StepRecord::combine);
+  s.pair_contacts = record.pair_contacts();
+  s.boundary_contacts = record.boundary_contacts();
+  escaped = record.escaped();
+  screens_finite = record.screens_finite();
+  s.deepest = record.deepest();
+  if (energy_balance) {
+    const ExactSum rates[StepRecord::kRates] = {record.rate(0), record.rate(1), record.rate(2)};
+    add_rates(rates, history_dt);
+  }
+  drift_over_ranks = s.predict_drift ? std::optional<double>(record.drift()) : std::nullopt;
 }
 
 /// Particles per close_kicks call of close_step (any piece gives the same bits).
@@ -84,14 +70,17 @@ void FastEngine::Impl::close_step() {
       screen += close_kicks(s, piece, std::min(piece + kKickPiece, owned));
     }
     s.screen = screen;
+    if (s.predict_drift) {
+      double drift = 0.0;
+      PPOHDEM_OMP(omp parallel for schedule(static) reduction(max : drift) if (owned >= kParallelMin))
+      for (std::size_t i = 0; i < owned; ++i) drift = std::max(drift, next_drift(s, i));
+      s.next_drift = drift;
+    }
   }
   kick_cached = true;
 }
 
 void FastEngine::Impl::step() {
-  const double dt = s.dt;
-  const double half = 0.5 * dt;
-  const Vec3 g = s.gravity;
   const std::size_t n = s.owned;
   double largest = 0.0;  // max |x - x_build|^2 [m^2]
   // Half kick and drift (the reference's expressions, so the same bits). The kick of
@@ -99,25 +88,38 @@ void FastEngine::Impl::step() {
   // that step left it in pv, pw (free between steps), which saves 6 of the 12 divisions of
   // a particle-step; after a (re)start the kick is computed afresh.
   const bool cached = kick_cached;
+  if (distributed()) pack_ghost_kicks(cached);  // before the drift, which overwrites pv, pw
   PPOHDEM_OMP(omp parallel for schedule(static) reduction(max : largest) if (n >= kParallelMin))
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 kick = cached ? s.pv[i] : Vec3(half * (s.f[i] / s.mass[i] + g));
-    const Vec3 spin_kick = cached ? s.pw[i] : Vec3(half * s.t[i] / s.inertia[i]);
-    s.v[i] += kick;
-    s.w[i] += spin_kick;
-    s.x[i] += dt * s.v[i];
-    s.pv[i] = s.v[i] + kick;
-    s.pw[i] = s.w[i] + spin_kick;
+    kick_and_drift(s, i, first_half_kick(s, i, cached));
     largest = std::max(largest, (s.x[i] - s.x_build[i]).squaredNorm());
   }
   ++steps;
-  if (distributed()) largest = comm->max_over_ranks(largest);  // the same decision on every rank
-  if (largest > 0.25 * skin * skin) {  // largest displacement > skin / 2
+  // The same decision on every rank: the maximum over ranks, known since the last closing
+  // kick's allreduce when that kick is the one just applied (evaluate_forces), else asked now.
+  const double limit = 0.25 * skin * skin;  // largest displacement > skin / 2
+  bool build = largest > limit;
+  if (distributed()) {
+    if (cached && drift_over_ranks) {
+      build = *drift_over_ranks > limit;
+      // next_drift repeats this drift's expressions: a rank that now finds a larger one has a
+      // bug that would miss contacts, so it stops the program rather than run on.
+      if (largest > limit && !build) {
+        std::fprintf(stderr, "fast engine: internal error: the drift's largest displacement %.17g exceeds its prediction %.17g\n",
+                     largest, *drift_over_ranks);
+        comm->abort(3);
+      }
+    } else {
+      build = comm->max_over_ranks(largest) > limit;
+    }
+  }
+  drift_over_ranks.reset();
+  if (build) {
     build_lists();
   } else {
-    refresh_ghosts();
+    refresh_ghosts(cached);
   }
-  evaluate_forces(dt, /*closing_kick=*/true);
+  evaluate_forces(s.dt, /*closing_kick=*/true);
   out_valid = false;
 }
 
