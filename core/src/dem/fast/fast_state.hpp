@@ -532,6 +532,11 @@ inline double next_drift(const FastState& s, std::size_t i) {
   return (x - s.x_build[i]).squaredNorm();
 }
 
+/// kick_and_drift of particles [begin, end) with first_half_kick(s, i, cached), eight at a time
+/// where the CPU has AVX-512F and `cached` (the same bits; kicks_and_drifts.cpp). Returns the
+/// largest |x - x_build|^2 [m^2] (0 for none).
+double kicks_and_drifts(FastState& s, std::size_t begin, std::size_t end, bool cached);
+
 /// close_kick of particles [begin, end), eight at a time where the CPU has AVX-512F (the same
 /// bits; close_kicks.cpp). Returns a screen that is finite if and only if every close_kick's is.
 double close_kicks(FastState& s, std::size_t begin, std::size_t end);

@@ -58,7 +58,7 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
   drift_over_ranks = s.predict_drift ? std::optional<double>(record.drift()) : std::nullopt;
 }
 
-/// Particles per close_kicks call of close_step (any piece gives the same bits).
+/// Particles per close_kicks and kicks_and_drifts call (any piece gives the same bits).
 constexpr std::size_t kKickPiece = 64;
 
 void FastEngine::Impl::close_step() {
@@ -90,9 +90,8 @@ void FastEngine::Impl::step() {
   const bool cached = kick_cached;
   if (distributed()) pack_ghost_kicks(cached);  // before the drift, which overwrites pv, pw
   PPOHDEM_OMP(omp parallel for schedule(static) reduction(max : largest) if (n >= kParallelMin))
-  for (std::size_t i = 0; i < n; ++i) {
-    kick_and_drift(s, i, first_half_kick(s, i, cached));
-    largest = std::max(largest, (s.x[i] - s.x_build[i]).squaredNorm());
+  for (std::size_t piece = 0; piece < n; piece += kKickPiece) {
+    largest = std::max(largest, kicks_and_drifts(s, piece, std::min(piece + kKickPiece, n), cached));
   }
   ++steps;
   // The same decision on every rank: the maximum over ranks, known since the last closing
