@@ -368,11 +368,11 @@ struct FastEngine::Impl {
     }
   }
 
-  /// This rank's sums over its owned particles (the threads' partial sums merged): the rates of
-  /// the terms records (dissipated, work, power) if `rates`, the energies of the state if
-  /// `state` (elastic from the records when tracked; kinetic, rotational, gravitational from
-  /// the particles), the boundary loads if `with_loads`.
-  EvaluationSums sum_owned(bool rates, bool state, bool with_loads) const;
+  /// This rank's sums over its owned particles (the threads' partial sums merged): the energies
+  /// of the state if `state` (elastic from the records when tracked; kinetic, rotational,
+  /// gravitational from the particles), the boundary loads if `with_loads`. (The rates are
+  /// summed by the kernel itself: FastState::rates.)
+  EvaluationSums sum_owned(bool state, bool with_loads) const;
 
   /// Owned particles that have crossed a boundary (one rank: all of them).
   std::size_t count_escaped() const;

@@ -80,12 +80,11 @@ PPOHDEM_LANES void store_rows(D a, D b, D c, D d, double* const* to) {
 
 template <bool kEnergy>
 [[gnu::target("avx"), gnu::flatten]] void hertz_mindlin_avx(const HertzMindlin& law, FastState& s, PairEntry* entries,
-                                                             const std::uint32_t* contacts, std::size_t count, double dt,
-                                                             OwnSums* sums) {
+                                                             std::size_t count, double dt, OwnSums* sums) {
   const lanes4::LawLanes law4 = lanes4::law_lanes(law, dt);
   lanes4::EqualParticles equal;
   for (std::size_t first = 0; first < count; first += 4) {
-    lanes4::evaluate_group<kEnergy>(law4, s, entries, contacts, first, count, equal, sums);
+    lanes4::evaluate_group<kEnergy>(law4, s, entries, first, count, equal, sums);
   }
 }
 
@@ -93,18 +92,18 @@ template <bool kEnergy>
 /// lanes at the end of a chunk's list).
 template <bool kEnergy>
 [[gnu::target("avx512f"), gnu::flatten]] void hertz_mindlin_avx512(const HertzMindlin& law, FastState& s,
-                                                                   PairEntry* entries, const std::uint32_t* contacts,
-                                                                   std::size_t count, double dt, OwnSums* sums) {
+                                                                   PairEntry* entries, std::size_t count, double dt,
+                                                                   OwnSums* sums) {
   const lanes8::LawLanes law8 = lanes8::law_lanes(law, dt);
   lanes8::EqualParticles equal8;
   std::size_t first = 0;
   for (; first + 4 < count; first += 8) {
-    lanes8::evaluate_group<kEnergy>(law8, s, entries, contacts, first, count, equal8, sums);
+    lanes8::evaluate_group<kEnergy>(law8, s, entries, first, count, equal8, sums);
   }
   if (first < count) {
     const lanes4::LawLanes law4 = lanes4::law_lanes(law, dt);
     lanes4::EqualParticles equal4;
-    lanes4::evaluate_group<kEnergy>(law4, s, entries, contacts, first, count, equal4, sums);
+    lanes4::evaluate_group<kEnergy>(law4, s, entries, first, count, equal4, sums);
   }
 }
 
@@ -115,13 +114,13 @@ bool x4_contacts_available() { return simd_level() >= SimdLevel::avx; }  // the 
 bool x8_contacts_available() { return simd_level() >= SimdLevel::avx512; }
 
 template <bool kEnergy>
-void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
-                      std::size_t count, double dt, OwnSums* sums) {
+void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, std::size_t count, double dt,
+                      OwnSums* sums) {
   static const bool eight = x8_contacts_available();  // the level is fixed for the process
   if (eight) {
-    hertz_mindlin_avx512<kEnergy>(law, s, entries, contacts, count, dt, sums);
+    hertz_mindlin_avx512<kEnergy>(law, s, entries, count, dt, sums);
   } else {
-    hertz_mindlin_avx<kEnergy>(law, s, entries, contacts, count, dt, sums);
+    hertz_mindlin_avx<kEnergy>(law, s, entries, count, dt, sums);
   }
 }
 
@@ -131,13 +130,11 @@ bool x4_contacts_available() { return false; }
 bool x8_contacts_available() { return false; }
 
 template <bool kEnergy>
-void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t, double, OwnSums*) {}
+void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, std::size_t, double, OwnSums*) {}
 
 #endif
 
-template void hertz_mindlin_x4<true>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
-                                     double, OwnSums*);
-template void hertz_mindlin_x4<false>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
-                                      double, OwnSums*);
+template void hertz_mindlin_x4<true>(const HertzMindlin&, FastState&, PairEntry*, std::size_t, double, OwnSums*);
+template void hertz_mindlin_x4<false>(const HertzMindlin&, FastState&, PairEntry*, std::size_t, double, OwnSums*);
 
 }  // namespace ppohdem::dem::fast
