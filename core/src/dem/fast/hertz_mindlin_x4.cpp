@@ -49,6 +49,19 @@ PPOHDEM_LANES void store_rows(D a, D b, D c, D d, double* const* to) {
   _mm256_storeu_pd(to[2], _mm256_permute2f128_pd(ab_even, cd_even, 0x31));
   _mm256_storeu_pd(to[3], _mm256_permute2f128_pd(ab_odd, cd_odd, 0x31));
 }
+/// The transpose of store_rows: a[l], b[l], c[l], d[l] = the four doubles at from[l].
+PPOHDEM_LANES void load_rows(const double* const* from, D& a, D& b, D& c, D& d) {
+  const __m256d r0 = _mm256_loadu_pd(from[0]), r1 = _mm256_loadu_pd(from[1]);
+  const __m256d r2 = _mm256_loadu_pd(from[2]), r3 = _mm256_loadu_pd(from[3]);
+  const __m256d ac01 = _mm256_unpacklo_pd(r0, r1);  // a0 a1 c0 c1
+  const __m256d bd01 = _mm256_unpackhi_pd(r0, r1);  // b0 b1 d0 d1
+  const __m256d ac23 = _mm256_unpacklo_pd(r2, r3);
+  const __m256d bd23 = _mm256_unpackhi_pd(r2, r3);
+  a = reinterpret_cast<D>(_mm256_permute2f128_pd(ac01, ac23, 0x20));
+  b = reinterpret_cast<D>(_mm256_permute2f128_pd(bd01, bd23, 0x20));
+  c = reinterpret_cast<D>(_mm256_permute2f128_pd(ac01, ac23, 0x31));
+  d = reinterpret_cast<D>(_mm256_permute2f128_pd(bd01, bd23, 0x31));
+}
 #include "hertz_mindlin_lanes.inc"
 #undef PPOHDEM_LANES
 }  // namespace lanes4
@@ -73,6 +86,20 @@ PPOHDEM_LANES lanes4::D high(D v) {
 PPOHDEM_LANES void store_rows(D a, D b, D c, D d, double* const* to) {
   lanes4::store_rows(low(a), low(b), low(c), low(d), to);
   lanes4::store_rows(high(a), high(b), high(c), high(d), to + 4);
+}
+PPOHDEM_LANES D join(lanes4::D low_half, lanes4::D high_half) {
+  const __m512d low_only = _mm512_maskz_insertf64x4(0xFF, _mm512_setzero_pd(), reinterpret_cast<__m256d>(low_half), 0);
+  return reinterpret_cast<D>(_mm512_maskz_insertf64x4(0xFF, low_only, reinterpret_cast<__m256d>(high_half), 1));
+}
+/// As lanes4::load_rows, for lanes 0-3 and 4-7.
+PPOHDEM_LANES void load_rows(const double* const* from, D& a, D& b, D& c, D& d) {
+  lanes4::D a0, b0, c0, d0, a1, b1, c1, d1;
+  lanes4::load_rows(from, a0, b0, c0, d0);
+  lanes4::load_rows(from + 4, a1, b1, c1, d1);
+  a = join(a0, a1);
+  b = join(b0, b1);
+  c = join(c0, c1);
+  d = join(d0, d1);
 }
 #include "hertz_mindlin_lanes.inc"
 #undef PPOHDEM_LANES
