@@ -1,7 +1,7 @@
-// ExactSum (ppohdem/dem/exact_sum.hpp) against independent answers: cases whose exact sum is
-// known by reasoning, random sums against Python's rational arithmetic (exact_sum_oracle.py),
-// and the property the engines rely on: any order and any split into merged parts give the
-// same bits.
+// ExactSum and BinnedExactSum (ppohdem/dem/exact_sum.hpp) against independent answers: cases
+// whose exact sum is known by reasoning, random sums against Python's rational arithmetic
+// (exact_sum_oracle.py), and the property the engines rely on: any order and any split into
+// merged parts give the same bits, with or without the bins.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -21,12 +21,19 @@
 
 namespace {
 
+using ppohdem::dem::BinnedExactSum;
 using ppohdem::dem::ExactSum;
 
 double exact(const std::vector<double>& terms) {
   ExactSum s;
   for (const double t : terms) s.add(t);
   return s.value();
+}
+
+double binned(const std::vector<double>& terms) {
+  BinnedExactSum s;
+  for (const double t : terms) s.add(t);
+  return s.sum().value();
 }
 
 std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
@@ -73,6 +80,34 @@ TEST(ExactSum, ManyTermsCarryWithoutOverflow) {
   ExactSum tenths;  // 10^6 x 0.1 (the double) = 100000.0000000000055511151231257827 exactly
   for (int i = 0; i < 1000000; ++i) tenths.add(0.1);
   EXPECT_EQ(tenths.value(), 100000.0);
+}
+
+TEST(BinnedExactSum, ManyTermsInOneBinFlushWithoutOverflow) {
+  // The same sums through the bins: far more than 1024 terms in one bin (the largest
+  // mantissas of the top exponent, then the bin's flushes into the exact sum).
+  BinnedExactSum s;
+  for (int i = 0; i < 100000; ++i) s.add(kMax);
+  for (int i = 0; i < 100000; ++i) s.add(-kMax);
+  s.add(1.0);
+  EXPECT_EQ(s.sum().value(), 1.0);
+  BinnedExactSum tenths;
+  for (int i = 0; i < 1000000; ++i) tenths.add(0.1);
+  EXPECT_EQ(tenths.sum().value(), 100000.0);
+  // A reset sum is empty and reusable; its used bins were cleared.
+  tenths.reset();
+  EXPECT_EQ(bits(tenths.sum().value()), bits(0.0));
+  tenths.add(0.25);
+  EXPECT_EQ(tenths.sum().value(), 0.25);
+  // The largest |bin| before a flush: 1024 terms of mantissa 2^53 - 1, one sign, per exponent.
+  BinnedExactSum full;
+  ExactSum want;
+  const double top = std::nextafter(2.0, 0.0);  // (2^53 - 1) 2^-52
+  for (int i = 0; i < 3000; ++i) {
+    full.add(-top);
+    want.add(-top);
+  }
+  EXPECT_EQ(full.sum().value(), want.value());
+  EXPECT_EQ(full.sum().value(), -3000.0 * top);  // the exact sum rounded once: the IEEE product
 }
 
 // Random terms over the whole range: mixed magnitudes, subnormals, cancelling pairs, near ties.
@@ -142,6 +177,7 @@ TEST(ExactSum, MatchesPythonRationalArithmetic) {
     ASSERT_TRUE(answers >> hex) << "the oracle gave fewer answers than cases";
     const double want = hex == "inf" ? kInf : hex == "-inf" ? -kInf : std::strtod(hex.c_str(), nullptr);
     EXPECT_EQ(bits(exact(terms)), bits(want)) << "case " << checked << ": want " << hex;
+    EXPECT_EQ(bits(binned(terms)), bits(want)) << "binned, case " << checked << ": want " << hex;
     ++checked;
   }
   EXPECT_EQ(checked, cases.size());
@@ -177,4 +213,28 @@ RC_GTEST_PROP(ExactSumProperty, OrderAndSplitDoNotChangeTheBits, ()) {
     for (std::size_t k = 0; k < ExactSum::kWords; ++k) words[k] += w[k];
   }
   RC_ASSERT(bits(ExactSum::from_words(words).value()) == bits(whole));
+}
+
+// The bins give ExactSum's bits for any terms, infinities and NaNs included, and their sums
+// merge like ExactSum's.
+RC_GTEST_PROP(BinnedExactSumProperty, GivesTheExactSumsBits, ()) {
+  const auto raw = *rc::gen::container<std::vector<std::uint64_t>>(rc::gen::arbitrary<std::uint64_t>());
+  const std::size_t repeat = *rc::gen::inRange<std::size_t>(1, 700);  // many terms per bin: flushes
+  ExactSum plain;
+  BinnedExactSum bins;
+  for (std::size_t r = 0; r < repeat; ++r) {
+    for (const std::uint64_t b : raw) {
+      const double x = std::bit_cast<double>(b);
+      plain.add(x);
+      bins.add(x);
+    }
+  }
+  const double want = plain.value();
+  const double got = bins.sum().value();
+  ExactSum merged;
+  merged.merge(bins.sum());
+  const double again = merged.value();
+  const bool nan = std::isnan(want);
+  const bool same = nan ? std::isnan(got) && std::isnan(again) : bits(got) == bits(want) && bits(again) == bits(want);
+  RC_ASSERT(same);
 }

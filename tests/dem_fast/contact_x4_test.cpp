@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <random>
 #include <utility>
 
@@ -84,6 +85,10 @@ FastState random_pairs(std::size_t pairs, std::mt19937_64& rng, bool equal_block
   s.pw.resize(n);
   s.radius.resize(n);
   s.mass.resize(n);
+  s.id.resize(n);
+  s.f.assign(n, Vec3::Zero());
+  s.t.assign(n, Vec3::Zero());
+  s.terms.assign(n, FastState::ParticleTerms{});
   s.spring_pools.assign(1, std::vector<TangentialSpring>(pairs));
   s.result_pools.assign(1, std::vector<PairResult>(pairs));
   s.pool_shift = 31;
@@ -155,42 +160,61 @@ TEST_P(ContactsX4, EveryLaneIsBitwiseTheScalarContact) {
   m.friction = 0.5;
   const HertzMindlin law = HertzMindlin::from_material(m);
   const double dt = 8.65e-6;  // [s]
-  for (const auto& [energy, equal_blocks] : {std::pair{true, false}, std::pair{false, false}, std::pair{true, true}}) {
-    FastState s = random_pairs(pairs, rng, equal_blocks);
+  struct Mode {
+    bool energy, equal_blocks, own_sums;
+  };
+  for (const Mode mode : {Mode{true, false, false}, Mode{false, false, false}, Mode{true, true, false},
+                          Mode{true, false, true}, Mode{false, true, true}}) {
+    const bool energy = mode.energy;
+    FastState s = random_pairs(pairs, rng, mode.equal_blocks);
     const std::vector<TangentialSpring> before = s.spring_pools[0];
-    // Entries listed in reverse with gaps, as a chunk's contacts are not contiguous.
-    std::vector<PairEntry> entries(2 * pairs + 1);
-    std::vector<std::uint32_t> contacts;
+    // Entries listed in reverse order of the pairs (not the storage order of the springs).
+    std::vector<PairEntry> entries(pairs + 1);
     for (std::size_t p = pairs; p-- > 0;) {
-      const auto e = static_cast<std::uint32_t>(2 * p + 1);
-      entries[e].i = static_cast<std::uint32_t>(2 * p);
-      entries[e].j = static_cast<std::uint32_t>(2 * p + 1);
-      entries[e].code = static_cast<std::uint32_t>(p);
-      entries[e].kind = PairEntry::kContactUpper;
-      contacts.push_back(e);
+      PairEntry& e = entries[pairs - 1 - p];
+      e.i = static_cast<std::uint32_t>(2 * p);
+      e.j = static_cast<std::uint32_t>(2 * p + 1);
+      e.code = static_cast<std::uint32_t>(p);
+      e.kind = PairEntry::kContactUpper;
     }
+    std::optional<LargestOverlap> deepest;
+    fast::OwnSums own{&deepest};
+    fast::OwnSums* const sums = mode.own_sums ? &own : nullptr;
     if (energy) {
-      fast::hertz_mindlin_x4<true>(law, s, entries.data(), contacts.data(), contacts.size(), dt);
+      fast::hertz_mindlin_x4<true>(law, s, entries.data(), pairs, dt, sums);
     } else {
-      fast::hertz_mindlin_x4<false>(law, s, entries.data(), contacts.data(), contacts.size(), dt);
+      fast::hertz_mindlin_x4<false>(law, s, entries.data(), pairs, dt, sums);
+    }
+    if (mode.own_sums) {
+      EXPECT_EQ(own.pairs, pairs);  // each contact counted once, repeated lanes not
     }
     std::size_t slipping = 0, clamped = 0, differing = 0;
     for (std::size_t p = 0; p < pairs; ++p) {
       const Scalar want = scalar_contact(law, s, 2 * p, 2 * p + 1, before[p], dt);
       const TangentialSpring& got = s.spring_pools[0][p];
       const PairResult& result = s.result_pools[0][p];
-      const PairEntry& entry = entries[2 * p + 1];
+      const PairEntry& entry = entries[pairs - 1 - p];
       // The branch vectors are kept only with the energies (their one reader); else untouched.
       const TangentialSpring& branches = energy ? want.spring : before[p];
       bool same = same_bits(got.displacement, want.spring.displacement) && same_bits(got.stiffness, want.spring.stiffness) &&
                   same_bits(got.branch_i, branches.branch_i) && same_bits(got.branch_j, branches.branch_j) &&
                   same_bits(result.force, want.result.force) && same_bits(result.torque_i, want.result.torque_i) &&
-                  same_bits(result.torque_j, want.result.torque_j) && same_bits(entry.overlap, want.overlap) &&
-                  same_bits(got.surface_velocity, before[p].surface_velocity);
-      if (energy) same = same && same_bits(entry.elastic, want.force.elastic_energy) && same_bits(entry.dissipated, want.force.dissipated);
+                  same_bits(result.torque_j, want.result.torque_j) && same_bits(got.surface_velocity, before[p].surface_velocity);
+      if (mode.own_sums) {
+        // The particle's one contact added to its zeroed sums: +0 + x is x (== also takes a
+        // -0 term, whose sum is +0).
+        same = same && s.f[2 * p] == want.result.force && s.t[2 * p] == want.result.torque_i;
+        if (energy) {
+          same = same && s.terms[2 * p].elastic == want.force.elastic_energy &&
+                 s.terms[2 * p].dissipated == want.force.dissipated;
+        }
+      } else {
+        same = same && same_bits(entry.overlap, want.overlap);
+        if (energy) same = same && same_bits(entry.elastic, want.force.elastic_energy) && same_bits(entry.dissipated, want.force.dissipated);
+      }
       if (!same && differing++ == 0) {
-        ADD_FAILURE() << "pair " << p << " of " << pairs << " (energy " << energy << ", equal blocks " << equal_blocks
-                      << ") differs";
+        ADD_FAILURE() << "pair " << p << " of " << pairs << " (energy " << energy << ", equal blocks " << mode.equal_blocks
+                      << ", own sums " << mode.own_sums << ") differs";
       }
       const Vec3 n = (s.x[2 * p] - s.x[2 * p + 1]).normalized();
       if (want.force.on_i.dot(n) == 0.0) ++clamped;

@@ -233,6 +233,9 @@ struct FastEngine::Impl {
   /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
   bool kick_cached = false;
   mutable std::vector<EvaluationSums> thread_sums;  ///< sum_owned's partial sums, one per thread (reused)
+  /// sum_owned's bins of the state's energies (elastic, kinetic, rotational, gravitational), one
+  /// set per thread (reused).
+  mutable std::vector<std::array<BinnedExactSum, 4>> state_bins;
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
   /// A list build's histories (build_lists): kept between builds so that their storage is
@@ -368,11 +371,11 @@ struct FastEngine::Impl {
     }
   }
 
-  /// This rank's sums over its owned particles (the threads' partial sums merged): the rates of
-  /// the terms records (dissipated, work, power) if `rates`, the energies of the state if
-  /// `state` (elastic from the records when tracked; kinetic, rotational, gravitational from
-  /// the particles), the boundary loads if `with_loads`.
-  EvaluationSums sum_owned(bool rates, bool state, bool with_loads) const;
+  /// This rank's sums over its owned particles (the threads' partial sums merged): the energies
+  /// of the state if `state` (elastic from the records when tracked; kinetic, rotational,
+  /// gravitational from the particles), the boundary loads if `with_loads`. (The rates are
+  /// summed by the kernel itself: FastState::rates.)
+  EvaluationSums sum_owned(bool state, bool with_loads) const;
 
   /// Owned particles that have crossed a boundary (one rank: all of them).
   std::size_t count_escaped() const;

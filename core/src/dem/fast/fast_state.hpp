@@ -15,6 +15,7 @@
 #include "ppohdem/dem/boundary.hpp"
 #include "ppohdem/dem/contact_force.hpp"
 #include "ppohdem/dem/engine.hpp"
+#include "ppohdem/dem/exact_sum.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
 
 #ifdef PPOHDEM_WITH_OPENMP
@@ -66,21 +67,20 @@ inline std::uint64_t record_key(const BoundaryRecord& r) { return record_key(r.b
 /// pair that the chunk's particle evaluates, or a contact that ended (its stored energy is lost).
 /// Entries are in the order in which the particle books them (its slot order).
 struct PairEntry {
-  enum Kind : std::uint32_t { kContact, kContactUpper, kEnded };
+  enum Kind : std::uint32_t { kContact, kContactUpper };
   std::uint32_t i = 0;     ///< storage index of the evaluating particle
   std::uint32_t j = 0;     ///< storage index of the partner
   std::uint32_t code = 0;  ///< spring code of a contact
   Kind kind = kContact;    ///< kContactUpper: the partner's id is above i's (energy and count here)
   double elastic = 0.0;     ///< contact: energy stored in it now [J]
-  double dissipated = 0.0;  ///< contact: dissipated this step; ended: its lost stored energy [J]
+  double dissipated = 0.0;  ///< contact: dissipated this step [J]
   double overlap = 0.0;     ///< contact: delta [m]
 };
 
-/// Storage for a chunk's pair list and the indices of its contacts (the entries the contact law
-/// evaluates); the kernel sizes them for the chunk's slots and counts the valid entries itself.
+/// Storage for a chunk's contacts (the entries the contact law evaluates); the kernel sizes it
+/// for the chunk's slots and counts the valid entries itself.
 struct PairBatch {
   std::vector<PairEntry> entries;
-  std::vector<std::uint32_t> contacts;
 };
 
 /// What one range of particles produced in a force evaluation (concatenated in range order,
@@ -100,6 +100,9 @@ struct alignas(64) ThreadOutput {
   std::vector<std::uint32_t> free_springs;
   PairBatch batch;  ///< the current chunk's pairs (frictional kernels; reused storage)
   std::vector<FeatureContact> touching;  ///< one boundary's contacts (force_boundaries.hpp; reused)
+  /// The exact sums of this range's particles' energy rates in this evaluation (kEnergy):
+  /// dissipated [J], boundary work [J], boundary power [W] (docs/dem.md "Energy book-keeping").
+  std::array<ExactSum, 3> rates;
 };
 
 /// Deterministic choice of the deeper contact: larger ratio, ties to the smaller
@@ -280,6 +283,9 @@ struct FastState {
   std::size_t pair_contacts = 0;
   std::size_t boundary_contacts = 0;
   std::optional<LargestOverlap> deepest;  ///< deepest contact of the last evaluation
+  /// The energy rates of the last evaluation over the owned particles (kEnergy; the ranges'
+  /// ThreadOutput::rates merged): dissipated [J], boundary work [J], boundary power [W].
+  std::array<ExactSum, 3> rates;
   std::size_t size() const { return id.size(); }
 };
 

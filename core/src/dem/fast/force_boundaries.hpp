@@ -148,6 +148,21 @@ inline void visit_boundary(const K& kernel, RangePass& pass, BoundaryWalk& walk,
   }
 }
 
+/// Particle i's energy terms of this evaluation (kEnergy): its elastic energy kept for the
+/// state's sum (summed only when asked), its three rates added to the range's exact sums,
+/// the step's only pass over them (docs/dem.md "Energy book-keeping"); a particle whose rates
+/// are all +-0 (most of a dilute phase) adds nothing, with one test.
+inline void store_terms(RangePass& pass, std::size_t i, const ParticleSums& sums) {
+  pass.s.terms[i] = FastState::ParticleTerms{sums.elastic, sums.dissipated, sums.work, sums.power};
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(sums.dissipated) | std::bit_cast<std::uint64_t>(sums.work) |
+                             std::bit_cast<std::uint64_t>(sums.power);
+  if ((bits << 1) != 0) {
+    pass.out.rates[0].add(sums.dissipated);
+    pass.out.rates[1].add(sums.work);
+    pass.out.rates[2].add(sums.power);
+  }
+}
+
 /// Particle i's boundary contacts in boundary order, then its stores: force and torque (the
 /// frictionless kernels; the frictional ones store them after their sum pass), its energy
 /// terms (kEnergy; else they keep their zeros) and the end of its block of new records.
@@ -174,13 +189,7 @@ inline void boundaries_and_stores(const K& kernel, RangePass& pass, std::size_t 
     s.f[i] = sums.force;
     s.t[i] = sums.torque;
   }
-  if constexpr (K::kEnergy) {
-    FastState::ParticleTerms& terms = s.terms[i];
-    terms.elastic = sums.elastic;
-    terms.dissipated = sums.dissipated;
-    terms.work = sums.work;
-    terms.power = sums.power;
-  }
+  if constexpr (K::kEnergy) store_terms(pass, i, sums);
   if constexpr (K::kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(pass.out.records.size());
 }
 

@@ -122,23 +122,21 @@ class Kernel final : public ForceKernel {
         x4_(kX4 && vector_contacts && x4_contacts_available() && !laws.any_rolling() &&
            !laws.any_tangential_damping()) {}
 
-  /// The contacts entries[contacts[k]], k < count, of a chunk (friction; `contacts` null: the
-  /// entries 0 to count - 1): springs, pair results and the entries' energies and overlaps.
-  /// Four at a time (hertz_mindlin_x4) or one at a time, the same bits.
-  /// With AVX and the energies untracked, the law also adds the upper contacts to s.f, s.t,
-  /// counts them and offers them as the deepest (`sums`, OwnSums), so the booking has nothing
-  /// left to do; returns whether it did. With the energies tracked the booking still walks the
-  /// entries for their energy terms, and the law adding the forces as well was slower
-  /// (docs/performance.md "The law adds its own sums").
-  bool evaluate_contacts(FastState& s, PairEntry* entries, const std::uint32_t* contacts, std::size_t count,
-                         double dt, [[maybe_unused]] OwnSums& sums) const {
+  /// The contacts entries[0, count) of a chunk (friction): springs and pair results, four or
+  /// eight at a time (hertz_mindlin_x4) or one at a time, the same bits. In lanes the law also
+  /// adds the upper contacts to s.f, s.t (and, tracked, their energy terms to s.terms), counts
+  /// them and offers them as the deepest (`sums`, OwnSums), so no booking walks the entries
+  /// again; returns whether it did. One at a time, the entries keep their energies and
+  /// overlaps for the booking (docs/performance.md "The law adds its own sums").
+  bool evaluate_contacts(FastState& s, PairEntry* entries, std::size_t count, double dt,
+                         [[maybe_unused]] OwnSums& sums) const {
     if constexpr (kX4) {
       if (x4_) {
-        hertz_mindlin_x4<kEnergy>(law_, s, entries, contacts, count, dt, kEnergy ? nullptr : &sums);
-        return !kEnergy;
+        hertz_mindlin_x4<kEnergy>(law_, s, entries, count, dt, &sums);
+        return true;
       }
     }
-    evaluate_contacts_one_by_one(*this, s, entries, contacts, count, dt);
+    evaluate_contacts_one_by_one(*this, s, entries, count, dt);
     return false;
   }
 
@@ -175,6 +173,9 @@ class Kernel final : public ForceKernel {
         out.records.clear();
         out.newly_escaped.clear();
         out.deepest.reset();
+        if constexpr (kEnergy) {
+          for (ExactSum& rate : out.rates) rate.reset();
+        }
         const auto started = std::chrono::steady_clock::now();  // for balance_split
         RangePass pass{s, time, dt, range, out, pairs, touching_boundaries, n, nb, near_mask, has_ghosts};
         if constexpr (kFriction) {

@@ -6,12 +6,14 @@
 // Frictional kernels (each pair once, from its lower-id side; the sum pass, force_sums.hpp,
 // adds the other side) go by chunks of kChunk particles: list the chunk's touching pairs and
 // the contacts that ended, in slot order (list_chunk_pairs); evaluate the listed contacts
-// (the kernel's evaluate_contacts: four at a time with AVX for one Hertz-Mindlin law,
+// (the kernel's evaluate_contacts: four or eight at a time for one Hertz-Mindlin law,
 // hertz_mindlin_x4.hpp, or one at a time here, the same bits); then book each particle's
 // entries in slot order and add its boundaries (book_chunk), so every sum keeps the order of
-// one particle at a time. With the energies untracked the four-lane law adds each particle's
-// own contacts itself, in the same order (OwnSums), and only the boundaries are left
-// (chunk_boundaries). Frictionless kernels evaluate every pair from both sides, the
+// one particle at a time. The lane law adds each particle's own contacts itself, in the same
+// order (OwnSums: forces, torques and, tracked, the energy terms), and only the ended
+// contacts' energy and the boundaries are left (chunk_boundaries). A particle's energy terms
+// are its upper contacts' in slot order, then its ended contacts', then its boundaries'
+// (docs/dem.md "Energy book-keeping"). Frictionless kernels evaluate every pair from both sides, the
 // higher-id partners in ascending id, then the lower-id ones in descending id
 // (frictionless_pair_pass).
 #include <algorithm>
@@ -49,14 +51,12 @@ inline PairKinematics pair_kinematics(const FastState& s, std::size_t i, std::si
   return p;
 }
 
-/// The contacts entries[contacts[c]], c < count (`contacts` null: entries 0 to count - 1),
-/// one at a time (frictional kernels): springs, pair results, and the entries' energies and
-/// overlaps for the booking.
+/// The contacts entries[0, count), one at a time (frictional kernels): springs, pair results,
+/// and the entries' energies and overlaps for the booking.
 template <class K>
-inline void evaluate_contacts_one_by_one(const K& kernel, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
-                                         std::size_t count, double dt) {
+inline void evaluate_contacts_one_by_one(const K& kernel, FastState& s, PairEntry* entries, std::size_t count, double dt) {
   for (std::size_t c = 0; c < count; ++c) {
-    PairEntry& entry = entries[contacts != nullptr ? contacts[c] : c];
+    PairEntry& entry = entries[c];
     const std::size_t i = entry.i;
     const std::uint32_t j = entry.j;
     PairKinematics p = pair_kinematics(s, i, j, s.x[i] - s.x[j]);
@@ -110,18 +110,18 @@ inline std::uint32_t new_spring_with_result(FastState& s, std::size_t range) {
 }
 
 /// The pair list of particles [chunk, chunk_end): for each particle in order, its slots'
-/// touching pairs it evaluates and (kEnergy) its contacts that ended, in slot order; a contact
-/// that begins gets a new spring, one that ends frees its spring. Particle i's entries are
-/// [entries_of[i - chunk], entries_of[i + 1 - chunk]); returns the number of contacts, whose
-/// entry indices are in `contacts` (kEnergy; else every entry is a contact).
+/// touching pairs it evaluates, in slot order; a contact that begins gets a new spring, one
+/// that ends frees its spring and (kEnergy) adds its lost stored energy to
+/// ended[i - chunk], in slot order. Particle i's entries are [entries_of[i - chunk],
+/// entries_of[i + 1 - chunk]); returns the number of entries (all contacts).
 template <class K>
 inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::size_t chunk_end, PairEntry* entries,
-                                      std::uint32_t* contacts, std::uint32_t* entries_of) {
+                                      std::uint32_t* entries_of, [[maybe_unused]] double* ended) {
   FastState& s = pass.s;
-  std::uint32_t count = 0;          // entries listed
-  std::uint32_t contact_count = 0;  // of which contacts
+  std::uint32_t count = 0;  // entries listed
   for (std::size_t i = chunk; i < chunk_end; ++i) {
     entries_of[i - chunk] = count;
+    if constexpr (K::kEnergy) ended[i - chunk] = 0.0;
     const Vec3 xi = s.x[i];
     const double ri = s.radius[i];
     auto list = [&](std::uint32_t slot, bool upper) {
@@ -134,11 +134,9 @@ inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::s
         if (touching) {
           code = new_spring_with_result(s, pass.range);  // a new contact: empty history
         } else {  // ended: its stored energy is lost
-          const TangentialSpring& sp = s.spring_at(code);
-          if (K::kEnergy && upper && sp.holds_history()) {
-            PairEntry& ended = entries[count++];
-            ended.kind = PairEntry::kEnded;
-            ended.dissipated = sp.stored_energy();
+          if constexpr (K::kEnergy) {
+            const TangentialSpring& sp = s.spring_at(code);
+            if (upper && sp.holds_history()) ended[i - chunk] += sp.stored_energy();
           }
           pass.out.free_springs.push_back(code);
           code = kNoSpring;
@@ -153,9 +151,7 @@ inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::s
       contact.j = j;
       contact.code = code;
       contact.kind = upper ? PairEntry::kContactUpper : PairEntry::kContact;
-      if constexpr (K::kEnergy) contacts[contact_count] = count;  // else every entry is a contact
       count += touching;
-      contact_count += touching;
     };
     // The lower-id owned partners evaluate their pairs (and keep this side's history); a
     // lower-id ghost's pair is evaluated here as well (its rank evaluates the other side).
@@ -168,20 +164,20 @@ inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::s
     for (std::uint32_t slot = upper_first; slot < s.first[i + 1]; ++slot) list(slot, true);
   }
   entries_of[chunk_end - chunk] = count;
-  return contact_count;
+  return count;
 }
 
 /// Each particle of [chunk, chunk_end) books its listed entries in slot order: the contacts
 /// with higher-id partners (this side's results, in ascending partner id) into its force and
 /// torque (the sum's first part; the sum pass adds the rest), its energy terms, count and
-/// deepest contact, and the energy of its contacts that ended; then its boundaries.
+/// deepest contact, then the energy of its contacts that ended (`ended`); then its boundaries.
 template <class K>
 inline void book_chunk(const K& kernel, RangePass& pass, std::size_t chunk, std::size_t chunk_end,
-                       const PairEntry* entries, const std::uint32_t* entries_of) {
+                       const PairEntry* entries, const std::uint32_t* entries_of, [[maybe_unused]] const double* ended) {
   FastState& s = pass.s;
   for (std::size_t i = chunk; i < chunk_end; ++i) {
-    if (entries_of[i - chunk] == entries_of[i + 1 - chunk] && pass.boundaries <= 32 &&
-        (s.near_boundaries[i] & pass.near_mask) == 0) {
+    if (entries_of[i - chunk] == entries_of[i + 1 - chunk] && (!K::kEnergy || ended[i - chunk] == 0.0) &&
+        pass.boundaries <= 32 && (s.near_boundaries[i] & pass.near_mask) == 0) {
       // Nothing touches it (a particle in flight): zero sums, only its energy record to close
       // (the same bits as the full path; docs/performance.md "Energy book-keeping").
       if constexpr (K::kEnergy) s.terms[i] = FastState::ParticleTerms{};
@@ -193,10 +189,6 @@ inline void book_chunk(const K& kernel, RangePass& pass, std::size_t chunk, std:
     sums.torque = s.t[i];
     for (std::uint32_t e = entries_of[i - chunk]; e < entries_of[i + 1 - chunk]; ++e) {
       const PairEntry& entry = entries[e];
-      if (entry.kind == PairEntry::kEnded) {
-        sums.dissipated += entry.dissipated;
-        continue;
-      }
       if (entry.kind != PairEntry::kContactUpper) continue;  // each pair's energy once, on its lower-id side
       const PairResult& result = s.result_at(entry.code);
       sums.force += result.force;
@@ -211,27 +203,34 @@ inline void book_chunk(const K& kernel, RangePass& pass, std::size_t chunk, std:
         keep_deeper(pass.out.deepest, LargestOverlap{ratio, entry.overlap, s.id[i], s.id[entry.j], false});
       }
     }
+    if constexpr (K::kEnergy) sums.dissipated += ended[i - chunk];
     boundaries_and_stores(kernel, pass, i, sums);
     s.f[i] = sums.force;  // the part from higher-id partners (the sum pass reads it)
     s.t[i] = sums.torque;
   }
 }
 
-/// The boundaries of particles [chunk, chunk_end) whose pair contacts the law has booked
-/// itself (OwnSums; the energies untracked). A particle near no boundary (most of a bed) has
-/// nothing to visit, only its empty block of records to close (docs/performance.md "Fewer
-/// loads and stores per contact and per particle"); without energies an old record needs no
-/// visit.
+/// The rest of particles [chunk, chunk_end) whose pair contacts the law has booked itself
+/// (OwnSums): the energy of their ended contacts and their boundaries. A particle near no
+/// boundary (most of a bed) has nothing to visit, only its empty block of records to close
+/// and its energy terms to finish (docs/performance.md "Fewer loads and stores per contact
+/// and per particle").
 template <class K>
-inline void chunk_boundaries(const K& kernel, RangePass& pass, std::size_t chunk, std::size_t chunk_end) {
+inline void chunk_boundaries(const K& kernel, RangePass& pass, std::size_t chunk, std::size_t chunk_end,
+                             [[maybe_unused]] const double* ended) {
   FastState& s = pass.s;
   for (std::size_t i = chunk; i < chunk_end; ++i) {
+    ParticleSums sums;  // the boundaries' forces are added in the sum pass
+    if constexpr (K::kEnergy) {
+      sums.elastic = s.terms[i].elastic;
+      sums.dissipated = s.terms[i].dissipated + ended[i - chunk];
+    }
     if (pass.boundaries <= 32 && (s.near_boundaries[i] & pass.near_mask) == 0) {
       if constexpr (K::kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(pass.out.records.size());
+      if constexpr (K::kEnergy) store_terms(pass, i, sums);
       continue;
     }
-    ParticleSums unused;  // the boundaries' forces are added in the sum pass
-    boundaries_and_stores(kernel, pass, i, unused);
+    boundaries_and_stores(kernel, pass, i, sums);
   }
 }
 
@@ -246,24 +245,22 @@ inline void frictional_pair_pass(const K& kernel, RangePass& pass) {
     // then written without a branch per slot.
     const std::size_t most = s.first[chunk_end] - s.first[chunk] + 1;
     if (batch.entries.size() < most) batch.entries.resize(most);
-    if (batch.contacts.size() < most) batch.contacts.resize(most);
     PairEntry* const entries = batch.entries.data();
-    std::uint32_t* const contacts = batch.contacts.data();
     std::uint32_t entries_of[kChunk + 1];
-    const std::uint32_t contact_count = list_chunk_pairs<K>(pass, chunk, chunk_end, entries, contacts, entries_of);
+    double ended[kChunk];  // kEnergy: the chunk's particles' ended contacts' energy [J]
+    const std::uint32_t contact_count = list_chunk_pairs<K>(pass, chunk, chunk_end, entries, entries_of, ended);
     for (std::size_t i = chunk; i < chunk_end; ++i) {  // the law may add to them (OwnSums)
       s.f[i] = Vec3::Zero();
       s.t[i] = Vec3::Zero();
+      if constexpr (K::kEnergy) s.terms[i] = FastState::ParticleTerms{};
     }
     OwnSums own{&pass.out.deepest};
-    // Untracked, no entry is an ended contact: the law reads the entries in order, without
-    // the index (docs/performance.md "Fewer loads and stores per contact and per particle").
-    const bool summed = kernel.evaluate_contacts(s, entries, K::kEnergy ? contacts : nullptr, contact_count, pass.dt, own);
+    const bool summed = kernel.evaluate_contacts(s, entries, contact_count, pass.dt, own);
     pass.pairs += own.pairs;
     if (summed) {
-      chunk_boundaries(kernel, pass, chunk, chunk_end);
+      chunk_boundaries(kernel, pass, chunk, chunk_end, ended);
     } else {
-      book_chunk(kernel, pass, chunk, chunk_end, entries, entries_of);
+      book_chunk(kernel, pass, chunk, chunk_end, entries, entries_of, ended);
     }
   }
 }

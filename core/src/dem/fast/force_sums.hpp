@@ -209,6 +209,12 @@ inline void gather_ranges(FastState& s, std::size_t ranges, std::size_t n, std::
   for (std::size_t range = 0; range < ranges; ++range) {
     if (const auto& d = s.threads[range].deepest) keep_deeper(s.deepest, *d);
   }
+  if constexpr (K::kEnergy) {  // exact: the same bits in any order of the ranges
+    for (std::size_t c = 0; c < s.rates.size(); ++c) {
+      s.rates[c].reset();
+      for (std::size_t range = 0; range < ranges; ++range) s.rates[c].merge(s.threads[range].rates[c]);
+    }
+  }
   if constexpr (K::kRecords) {
     s.records.swap(s.next_records);
     s.record_first.swap(s.next_record_first);

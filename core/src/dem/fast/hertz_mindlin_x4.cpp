@@ -49,6 +49,19 @@ PPOHDEM_LANES void store_rows(D a, D b, D c, D d, double* const* to) {
   _mm256_storeu_pd(to[2], _mm256_permute2f128_pd(ab_even, cd_even, 0x31));
   _mm256_storeu_pd(to[3], _mm256_permute2f128_pd(ab_odd, cd_odd, 0x31));
 }
+/// The transpose of store_rows: a[l], b[l], c[l], d[l] = the four doubles at from[l].
+PPOHDEM_LANES void load_rows(const double* const* from, D& a, D& b, D& c, D& d) {
+  const __m256d r0 = _mm256_loadu_pd(from[0]), r1 = _mm256_loadu_pd(from[1]);
+  const __m256d r2 = _mm256_loadu_pd(from[2]), r3 = _mm256_loadu_pd(from[3]);
+  const __m256d ac01 = _mm256_unpacklo_pd(r0, r1);  // a0 a1 c0 c1
+  const __m256d bd01 = _mm256_unpackhi_pd(r0, r1);  // b0 b1 d0 d1
+  const __m256d ac23 = _mm256_unpacklo_pd(r2, r3);
+  const __m256d bd23 = _mm256_unpackhi_pd(r2, r3);
+  a = reinterpret_cast<D>(_mm256_permute2f128_pd(ac01, ac23, 0x20));
+  b = reinterpret_cast<D>(_mm256_permute2f128_pd(bd01, bd23, 0x20));
+  c = reinterpret_cast<D>(_mm256_permute2f128_pd(ac01, ac23, 0x31));
+  d = reinterpret_cast<D>(_mm256_permute2f128_pd(bd01, bd23, 0x31));
+}
 #include "hertz_mindlin_lanes.inc"
 #undef PPOHDEM_LANES
 }  // namespace lanes4
@@ -74,18 +87,31 @@ PPOHDEM_LANES void store_rows(D a, D b, D c, D d, double* const* to) {
   lanes4::store_rows(low(a), low(b), low(c), low(d), to);
   lanes4::store_rows(high(a), high(b), high(c), high(d), to + 4);
 }
+PPOHDEM_LANES D join(lanes4::D low_half, lanes4::D high_half) {
+  const __m512d low_only = _mm512_maskz_insertf64x4(0xFF, _mm512_setzero_pd(), reinterpret_cast<__m256d>(low_half), 0);
+  return reinterpret_cast<D>(_mm512_maskz_insertf64x4(0xFF, low_only, reinterpret_cast<__m256d>(high_half), 1));
+}
+/// As lanes4::load_rows, for lanes 0-3 and 4-7.
+PPOHDEM_LANES void load_rows(const double* const* from, D& a, D& b, D& c, D& d) {
+  lanes4::D a0, b0, c0, d0, a1, b1, c1, d1;
+  lanes4::load_rows(from, a0, b0, c0, d0);
+  lanes4::load_rows(from + 4, a1, b1, c1, d1);
+  a = join(a0, a1);
+  b = join(b0, b1);
+  c = join(c0, c1);
+  d = join(d0, d1);
+}
 #include "hertz_mindlin_lanes.inc"
 #undef PPOHDEM_LANES
 }  // namespace lanes8
 
 template <bool kEnergy>
 [[gnu::target("avx"), gnu::flatten]] void hertz_mindlin_avx(const HertzMindlin& law, FastState& s, PairEntry* entries,
-                                                             const std::uint32_t* contacts, std::size_t count, double dt,
-                                                             OwnSums* sums) {
+                                                             std::size_t count, double dt, OwnSums* sums) {
   const lanes4::LawLanes law4 = lanes4::law_lanes(law, dt);
   lanes4::EqualParticles equal;
   for (std::size_t first = 0; first < count; first += 4) {
-    lanes4::evaluate_group<kEnergy>(law4, s, entries, contacts, first, count, equal, sums);
+    lanes4::evaluate_group<kEnergy>(law4, s, entries, first, count, equal, sums);
   }
 }
 
@@ -93,18 +119,18 @@ template <bool kEnergy>
 /// lanes at the end of a chunk's list).
 template <bool kEnergy>
 [[gnu::target("avx512f"), gnu::flatten]] void hertz_mindlin_avx512(const HertzMindlin& law, FastState& s,
-                                                                   PairEntry* entries, const std::uint32_t* contacts,
-                                                                   std::size_t count, double dt, OwnSums* sums) {
+                                                                   PairEntry* entries, std::size_t count, double dt,
+                                                                   OwnSums* sums) {
   const lanes8::LawLanes law8 = lanes8::law_lanes(law, dt);
   lanes8::EqualParticles equal8;
   std::size_t first = 0;
   for (; first + 4 < count; first += 8) {
-    lanes8::evaluate_group<kEnergy>(law8, s, entries, contacts, first, count, equal8, sums);
+    lanes8::evaluate_group<kEnergy>(law8, s, entries, first, count, equal8, sums);
   }
   if (first < count) {
     const lanes4::LawLanes law4 = lanes4::law_lanes(law, dt);
     lanes4::EqualParticles equal4;
-    lanes4::evaluate_group<kEnergy>(law4, s, entries, contacts, first, count, equal4, sums);
+    lanes4::evaluate_group<kEnergy>(law4, s, entries, first, count, equal4, sums);
   }
 }
 
@@ -115,13 +141,13 @@ bool x4_contacts_available() { return simd_level() >= SimdLevel::avx; }  // the 
 bool x8_contacts_available() { return simd_level() >= SimdLevel::avx512; }
 
 template <bool kEnergy>
-void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
-                      std::size_t count, double dt, OwnSums* sums) {
+void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, std::size_t count, double dt,
+                      OwnSums* sums) {
   static const bool eight = x8_contacts_available();  // the level is fixed for the process
   if (eight) {
-    hertz_mindlin_avx512<kEnergy>(law, s, entries, contacts, count, dt, sums);
+    hertz_mindlin_avx512<kEnergy>(law, s, entries, count, dt, sums);
   } else {
-    hertz_mindlin_avx<kEnergy>(law, s, entries, contacts, count, dt, sums);
+    hertz_mindlin_avx<kEnergy>(law, s, entries, count, dt, sums);
   }
 }
 
@@ -131,13 +157,11 @@ bool x4_contacts_available() { return false; }
 bool x8_contacts_available() { return false; }
 
 template <bool kEnergy>
-void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t, double, OwnSums*) {}
+void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, std::size_t, double, OwnSums*) {}
 
 #endif
 
-template void hertz_mindlin_x4<true>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
-                                     double, OwnSums*);
-template void hertz_mindlin_x4<false>(const HertzMindlin&, FastState&, PairEntry*, const std::uint32_t*, std::size_t,
-                                      double, OwnSums*);
+template void hertz_mindlin_x4<true>(const HertzMindlin&, FastState&, PairEntry*, std::size_t, double, OwnSums*);
+template void hertz_mindlin_x4<false>(const HertzMindlin&, FastState&, PairEntry*, std::size_t, double, OwnSums*);
 
 }  // namespace ppohdem::dem::fast

@@ -26,14 +26,15 @@ bool x8_contacts_available();
 /// What the law can also do for the force kernel's first pass ("Each pair once",
 /// force_kernel.cpp), in place of a second loop over the evaluated entries: add each contact
 /// whose entry is kContactUpper to its particle's sums s.f[i] and s.t[i] (force and r_i x
-/// force, in the order of `contacts`, which the kernel zeroes first), count it, and offer it as
-/// the deepest contact (overlap / smaller radius, keep_deeper).
+/// force, in the order of the entries; the kernel zeroes them first) and, with kEnergy, its
+/// elastic and dissipated energy to s.terms[i], count it, and offer it as the deepest contact
+/// (overlap / smaller radius, keep_deeper).
 struct OwnSums {
   std::optional<LargestOverlap>* deepest = nullptr;  ///< the range's deepest contact so far
   std::size_t pairs = 0;                             ///< contacts added
 };
 
-/// Evaluates the contacts entries[contacts[k]], k < count (`contacts` null: entries[k]), of one
+/// Evaluates the contacts entries[0, count) of one
 /// Hertz-Mindlin law (one material), four at a time: the relative kinematics from the
 /// particles' state in `s`, the normal force, the tangential spring update (each contact's
 /// spring in s.spring_at(code): displacement and stiffness), the pair result
@@ -43,7 +44,7 @@ struct OwnSums {
 /// overlap (for the booking). Requires x4_contacts_available(). Eight at a time where
 /// x8_contacts_available(): the same bits.
 template <bool kEnergy>
-void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, const std::uint32_t* contacts,
-                      std::size_t count, double dt, OwnSums* sums = nullptr);
+void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, std::size_t count, double dt,
+                      OwnSums* sums = nullptr);
 
 }  // namespace ppohdem::dem::fast

@@ -28,9 +28,9 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
   loads_stale = true;
   out_valid = false;
   // The energies of the state, boundary_loads() and (one rank) escaped_count() sum when
-  // asked; the energies' rates every evaluation.
+  // asked; the energies' rates every evaluation (the kernel's s.rates).
   if (lazy_sums()) {
-    if (energy_balance) add_rates(sum_owned(true, false, false).energy() + 1, history_dt);
+    if (energy_balance) add_rates(s.rates.data(), history_dt);
     return;
   }
   // What the run needs from every rank, in ONE allreduce of a fixed-size record (StepRecord):
@@ -39,10 +39,7 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
   // O(1) per rank whatever N and P (docs/dem.md "One collective a step").
   StepRecord record(energy_balance);
   record.set_counts(s.pair_contacts, s.boundary_contacts, count_escaped(), std::isfinite(s.screen));
-  if (energy_balance) {
-    EvaluationSums mine = sum_owned(true, false, false);
-    record.set_rates(mine.energy() + 1);
-  }
+  if (energy_balance) record.set_rates(s.rates.data());
   record.set_drift(s.predict_drift ? s.next_drift : 0.0);
   record.set_deepest(s.deepest);
   comm->combine_over_ranks(record.words(), &StepRecord::combine);
