@@ -183,6 +183,7 @@ struct FastEngine::Impl {
   long recuts = 0;
   long global_exchanges = 0;
   long exchanges = 0;  ///< LoadReport::exchanges
+  long overlapped_refreshes = 0;  ///< LoadReport::overlapped_refreshes
   std::size_t total = 0;  ///< particles of the whole system
   double skin = 0.0;      ///< [m]
   double skin_fraction = 0.2;  ///< FastOptions::skin_fraction (insertion may raise R_max)

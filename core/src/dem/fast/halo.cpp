@@ -128,6 +128,7 @@ std::unique_ptr<HaloInFlight> FastEngine::Impl::post_ghost_kicks(bool cached) {
   std::vector<std::size_t> sizes(ranks);  // known from the plan: one message each way
   for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * sizeof(HalfKick);
   ++exchanges;
+  ++overlapped_refreshes;
   return std::make_unique<GhostKicksInFlight>(*this, cached, comm->post_exchange_with(peers, halo_kicks, sizes));
 }
 

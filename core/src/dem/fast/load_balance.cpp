@@ -46,6 +46,7 @@ LoadReport FastEngine::Impl::load_report() const {
   r.global_exchanges = global_exchanges;
   r.peers = peers.size();
   r.exchanges = exchanges;
+  r.overlapped_refreshes = overlapped_refreshes;
   if (!distributed()) return r;
   const int ranks = comm->size();
   // The counts of the last build's positions (x_build: the owners were decided there) in the
