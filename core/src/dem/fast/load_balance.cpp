@@ -68,6 +68,9 @@ LoadReport FastEngine::Impl::load_report() const {
   const auto ghosts = static_cast<double>(s.size() - s.owned);  // made at the last list build
   r.ghosts_mean = comm->sum_over_ranks(ghosts) / ranks;
   r.ghosts_max = comm->max_over_ranks(ghosts);
+  const auto interior = static_cast<double>(s.n_interior);
+  r.interior_mean = comm->sum_over_ranks(interior) / ranks;
+  r.interior_min = -comm->max_over_ranks(-interior);
   r.max_over_mean = max_over_mean(0);
   r.equal_bricks_max_over_mean = max_over_mean(static_cast<std::size_t>(ranks));
   return r;

@@ -97,6 +97,8 @@ struct LoadReport {
   long exchanges = 0;                 ///< halo refreshes, ghost creations and migrations so far
   double ghosts_mean = 0.0;           ///< ghosts per rank (mean over the ranks, at the last list build)
   double ghosts_max = 0.0;            ///< ghosts on the rank with the most
+  double interior_mean = 0.0;         ///< interior particles per rank (no ghost partner; at the last list build)
+  double interior_min = 0.0;          ///< interior particles on the rank with the fewest
   long overlapped_refreshes = 0;      ///< of `exchanges`: halo refreshes overlapped with the interior pairs
 };
 
