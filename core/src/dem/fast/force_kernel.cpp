@@ -13,7 +13,9 @@
 // An evaluation runs these passes (each in its own function, all inlined into evaluate()):
 //   prepare_ranges      wall positions, the threads' ranges, spring pools and links
 //   pair pass           per range: pair contacts, then each particle's boundaries
-//                       (force_pairs.hpp, force_boundaries.hpp)
+//                       (force_pairs.hpp, force_boundaries.hpp); with the halo refresh in
+//                       flight, each range's interior part, the refresh completed, then its
+//                       halo layer (docs/dem.md "The halo refresh behind the interior")
 //   size_record_table   the new boundary records' table (force_sums.hpp)
 //   sum pass            frictional kernels: each particle adds its lower-id partners' results
 //                       and its boundary records, and closes the step's kick (force_sums.hpp)
