@@ -110,6 +110,7 @@ double mean_of(const std::vector<double>& v) {
   return v.empty() ? 0.0 : s / static_cast<double>(v.size());
 }
 double max_of(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+double min_of(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
 
 void run_project(const ProjectOptions& o) {
   const int sources = (o.scene.empty() ? 0 : 1) + (o.lattice.empty() ? 0 : 1) + (o.weak.empty() ? 0 : 1);
@@ -138,12 +139,13 @@ void run_project(const ProjectOptions& o) {
   if (!o.csv.empty()) {
     csv = std::make_unique<AtomicFileWriter>(o.csv);
     csv->stream() << "particles,ranks,rank,owned,ghosts_in,ghosts_out,peers,messages_in,messages_out,"
-                     "refresh_bytes_in,refresh_bytes_out,creation_bytes_in,creation_bytes_out\n";
+                     "refresh_bytes_in,refresh_bytes_out,creation_bytes_in,creation_bytes_out,interior\n";
   }
   std::printf("bricks: %s; per rank per step (halo refresh; mean / max over the ranks)\n",
               balance == "rcb" ? "recursive coordinate bisection" : "equal bricks");
   std::printf("| ranks | particles | owned mean | owned max | ghosts mean | ghosts max | halo KB in mean | max | "
-              "halo KB out max | messages out mean | max | peers max |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "halo KB out max | messages out mean | max | peers max | interior mean | interior min |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::size_t refresh_bytes = 0, creation_bytes = 0;
   for (const int ranks : o.ranks) {
     if (!o.weak.empty()) {
@@ -154,10 +156,11 @@ void run_project(const ProjectOptions& o) {
     const dem::fast::HaloProjection h = dem::fast::project_halo(ranks, bed.x, bed.id, bed.r_max, options);
     refresh_bytes = h.refresh_bytes;
     creation_bytes = h.creation_bytes;
-    std::vector<double> owned, ghosts, in, out, messages, peers;
+    std::vector<double> owned, interior, ghosts, in, out, messages, peers;
     for (std::size_t r = 0; r < h.rank.size(); ++r) {
       const dem::fast::RankTraffic& t = h.rank[r];
       owned.push_back(static_cast<double>(t.owned));
+      interior.push_back(static_cast<double>(t.interior));
       ghosts.push_back(static_cast<double>(t.ghosts_in));
       in.push_back(static_cast<double>(t.ghosts_in * h.refresh_bytes));
       out.push_back(static_cast<double>(t.ghosts_out * h.refresh_bytes));
@@ -167,12 +170,14 @@ void run_project(const ProjectOptions& o) {
         csv->stream() << h.particles << ',' << ranks << ',' << r << ',' << t.owned << ',' << t.ghosts_in << ','
                       << t.ghosts_out << ',' << t.peers << ',' << t.messages_in << ',' << t.messages_out << ','
                       << t.ghosts_in * h.refresh_bytes << ',' << t.ghosts_out * h.refresh_bytes << ','
-                      << t.ghosts_in * h.creation_bytes << ',' << t.ghosts_out * h.creation_bytes << '\n';
+                      << t.ghosts_in * h.creation_bytes << ',' << t.ghosts_out * h.creation_bytes << ',' << t.interior
+                      << '\n';
       }
     }
-    std::printf("| %d | %zu | %.0f | %.0f | %.0f | %.0f | %.1f | %.1f | %.1f | %.2f | %.0f | %.0f |\n", ranks,
+    std::printf("| %d | %zu | %.0f | %.0f | %.0f | %.0f | %.1f | %.1f | %.1f | %.2f | %.0f | %.0f | %.0f | %.0f |\n", ranks,
                 h.particles, mean_of(owned), max_of(owned), mean_of(ghosts), max_of(ghosts), mean_of(in) / 1e3,
-                max_of(in) / 1e3, max_of(out) / 1e3, mean_of(messages), max_of(messages), max_of(peers));
+                max_of(in) / 1e3, max_of(out) / 1e3, mean_of(messages), max_of(messages), max_of(peers),
+                mean_of(interior), min_of(interior));
     std::fflush(stdout);
   }
   if (csv) csv->commit();

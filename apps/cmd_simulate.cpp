@@ -344,10 +344,12 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   if (load) {
     std::printf("load balance: %s, %ld re-cuts; particles per rank max/mean %.3f (equal bricks of the initial "
                 "box: %.3f); exchanges: %.2f messages per rank per step (max %.2f; as all-to-all exchanges: %.2f), %zu "
-                "peers on rank 0, %ld global migrations; ghosts per rank %.1f (max %.0f)\n",
+                "peers on rank 0, %ld global migrations; ghosts per rank %.1f (max %.0f); interior particles per "
+                "rank %.1f (min %.0f), %ld halo refreshes overlapped on rank 0\n",
                 scene.parallel.balance ? "rcb" : "off", load->recuts, load->max_over_mean,
                 load->equal_bricks_max_over_mean, messages_mean, messages_max, all_to_all, load->peers,
-                load->global_exchanges, load->ghosts_mean, load->ghosts_max);
+                load->global_exchanges, load->ghosts_mean, load->ghosts_max, load->interior_mean, load->interior_min,
+                load->overlapped_refreshes);
   }
   if (alternation) alternation->report(particle_count);
   if (phases) phases->report(particle_count);

@@ -24,7 +24,7 @@ using ppohdem::test::run_ppohdem;
 namespace {
 
 struct Summary {
-  double ghosts_mean = 0, ghosts_max = 0, messages_mean = 0, messages_max = 0;
+  double ghosts_mean = 0, ghosts_max = 0, messages_mean = 0, messages_max = 0, interior_mean = 0, interior_min = 0;
 };
 
 /// The rows of `ranks` in project's CSV, reduced as simulate reports them.
@@ -39,7 +39,9 @@ Summary from_csv(const fs::path& csv, int ranks) {
     std::vector<double> f;
     std::stringstream fields(line);
     for (std::string v; std::getline(fields, v, ',');) f.push_back(std::stod(v));
-    if (f.size() < 9 || static_cast<int>(f[1]) != ranks) continue;
+    if (f.size() < 14 || static_cast<int>(f[1]) != ranks) continue;
+    s.interior_min = rows == 0 ? f[13] : std::min(s.interior_min, f[13]);
+    s.interior_mean += f[13];
     ++rows;
     s.ghosts_mean += f[4];
     s.ghosts_max = std::max(s.ghosts_max, f[4]);
@@ -49,6 +51,7 @@ Summary from_csv(const fs::path& csv, int ranks) {
   EXPECT_EQ(rows, ranks);
   s.ghosts_mean /= ranks;
   s.messages_mean /= ranks;
+  s.interior_mean /= ranks;
   return s;
 }
 
@@ -63,7 +66,9 @@ Summary from_simulate(const std::string& output) {
   EXPECT_EQ(std::sscanf(output.c_str() + at, "exchanges: %lf messages per rank per step (max %lf", &s.messages_mean,
                         &s.messages_max),
             2);
-  EXPECT_EQ(std::sscanf(output.c_str() + ghosts, "ghosts per rank %lf (max %lf)", &s.ghosts_mean, &s.ghosts_max), 2);
+  EXPECT_EQ(std::sscanf(output.c_str() + ghosts, "ghosts per rank %lf (max %lf); interior particles per rank %lf (min %lf)",
+                        &s.ghosts_mean, &s.ghosts_max, &s.interior_mean, &s.interior_min),
+            4);
   return s;
 }
 
@@ -87,6 +92,10 @@ TEST(ProjectCli, CountsWhatAnMpiRunBuildsAndSends) {
     EXPECT_EQ(real.ghosts_max, dry.ghosts_max);
     EXPECT_NEAR(real.messages_mean, dry.messages_mean, 0.005 + 1e-9);  // two decimals
     EXPECT_EQ(real.messages_max, dry.messages_max);
+    // The halo layer: the dry run's rule is the engine's (put_halo_layer_last).
+    EXPECT_GT(dry.interior_mean, 0.0);
+    EXPECT_NEAR(real.interior_mean, dry.interior_mean, 0.05 + 1e-9);  // one decimal
+    EXPECT_EQ(real.interior_min, dry.interior_min);
   }
 }
 

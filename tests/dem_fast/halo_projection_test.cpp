@@ -101,13 +101,17 @@ TEST(HaloProjection, MatchesABruteForceCountOverEveryParticleAndRank) {
     std::vector<std::size_t> all(x.size());
     std::iota(all.begin(), all.end(), 0);
     bisect(x, all, 0, ranks, Box{{-inf, -inf, -inf}, {inf, inf, inf}}, boxes, owner);
-    std::vector<std::size_t> owned(boxes.size(), 0), in(boxes.size(), 0), out(boxes.size(), 0);
+    std::vector<std::size_t> owned(boxes.size(), 0), in(boxes.size(), 0), out(boxes.size(), 0), interior(boxes.size(), 0);
     std::vector<std::set<int>> sends_to(boxes.size()), receives_from(boxes.size());
     for (std::size_t k = 0; k < x.size(); ++k) {
       const auto o = static_cast<std::size_t>(owner[k]);
       ++owned[o];
+      ++interior[o];  // until another rank's brick is found within reach
+      bool layer = false;
       for (int r = 0; r < ranks; ++r) {
         if (r == owner[k] || distance2(boxes[static_cast<std::size_t>(r)], x[k], slack) >= reach * reach) continue;
+        if (!layer) --interior[o];
+        layer = true;
         ++in[static_cast<std::size_t>(r)];
         ++out[o];
         sends_to[o].insert(r);
@@ -121,6 +125,7 @@ TEST(HaloProjection, MatchesABruteForceCountOverEveryParticleAndRank) {
     for (std::size_t r = 0; r < boxes.size(); ++r) {
       SCOPED_TRACE(r);
       EXPECT_EQ(h.rank[r].owned, owned[r]);
+      EXPECT_EQ(h.rank[r].interior, interior[r]);
       EXPECT_EQ(h.rank[r].ghosts_in, in[r]);
       EXPECT_EQ(h.rank[r].ghosts_out, out[r]);
       EXPECT_EQ(h.rank[r].messages_out, static_cast<int>(sends_to[r].size()));
@@ -130,6 +135,7 @@ TEST(HaloProjection, MatchesABruteForceCountOverEveryParticleAndRank) {
     }
     if (ranks > 1) {
       EXPECT_GT(ghosts, 0u);  // the bed is not trivially split
+      EXPECT_LT(h.rank[0].interior, h.rank[0].owned);
     }
   }
 }

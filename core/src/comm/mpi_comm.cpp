@@ -186,6 +186,47 @@ class MpiComm final : public Comm {
     return from;
   }
 
+  /// The requests of a posted exchange; tag 3, so that they never match exchange_with's.
+  struct MpiPostedExchange final : PostedExchange {
+    std::vector<MPI_Request> requests;
+  };
+
+  std::unique_ptr<PostedExchange> post_exchange_with(const std::vector<int>& peers, const std::vector<Bytes>& to,
+                                                     const std::vector<std::size_t>& sizes) const override {
+    const std::size_t n = peers.size();
+    if (to.size() != n || sizes.size() != n) throw std::runtime_error("post_exchange_with: one block and one size per peer expected");
+    auto posted = std::make_unique<MpiPostedExchange>();
+    posted->from.resize(n);
+    posted->requests.reserve(2 * n);
+    for (std::size_t i = 0; i < n; ++i) {  // as exchange_with with the sizes known: no empty blocks
+      posted->from[i].resize(sizes[i]);
+      if (sizes[i] == 0) continue;
+      posted->requests.emplace_back();
+      check(MPI_Irecv(posted->from[i].data(), to_int_count(sizes[i]), MPI_BYTE, peers[i], 3, MPI_COMM_WORLD,
+                      &posted->requests.back()),
+            "MPI_Irecv");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (to[i].empty()) continue;
+      posted->requests.emplace_back();
+      check(MPI_Isend(to[i].data(), to_int_count(to[i].size()), MPI_BYTE, peers[i], 3, MPI_COMM_WORLD,
+                      &posted->requests.back()),
+            "MPI_Isend");
+      ++messages_sent_;
+    }
+    return posted;
+  }
+  void progress_exchange(PostedExchange& posted) const override {
+    auto& requests = static_cast<MpiPostedExchange&>(posted).requests;
+    int done = 0;
+    check(MPI_Testall(static_cast<int>(requests.size()), requests.data(), &done, MPI_STATUSES_IGNORE), "MPI_Testall");
+  }
+  void finish_exchange(PostedExchange& posted) const override {
+    auto& requests = static_cast<MpiPostedExchange&>(posted).requests;
+    check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+    requests.clear();
+  }
+
   [[noreturn]] void abort(int code) const override {
     MPI_Abort(MPI_COMM_WORLD, code);
     std::abort();  // MPI_Abort does not return; in case it does

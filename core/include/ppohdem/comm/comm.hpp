@@ -62,6 +62,26 @@ class Comm {
   /// first (two, also for empty blocks). Not collective over the other ranks.
   virtual std::vector<Bytes> exchange_with(const std::vector<int>& peers, const std::vector<Bytes>& to,
                                            const std::vector<std::size_t>* sizes = nullptr) const = 0;
+  /// exchange_with() with the sizes known, split in two so that the caller can compute while
+  /// the messages travel: post_exchange_with() posts the receives and sends (MPI_Irecv,
+  /// MPI_Isend) and returns; progress_exchange() lets them move (MPI_Testall: Open MPI moves a
+  /// large, rendezvous, message only inside MPI calls); finish_exchange() waits for all of them
+  /// (MPI_Waitall), after which the result's `from` holds what exchange_with() would return.
+  /// `to` must stay alive and unchanged until finish_exchange(). The same messages as
+  /// exchange_with() with `sizes`; not collective. This base does the blocking exchange_with()
+  /// at the post (one rank: no peers, nothing to move).
+  struct PostedExchange {
+    virtual ~PostedExchange() = default;
+    std::vector<Bytes> from;  ///< from[i]: what peers[i] sent (complete after finish_exchange)
+  };
+  virtual std::unique_ptr<PostedExchange> post_exchange_with(const std::vector<int>& peers, const std::vector<Bytes>& to,
+                                                             const std::vector<std::size_t>& sizes) const {
+    auto posted = std::make_unique<PostedExchange>();
+    posted->from = exchange_with(peers, to, &sizes);
+    return posted;
+  }
+  virtual void progress_exchange(PostedExchange& /*posted*/) const {}
+  virtual void finish_exchange(PostedExchange& /*posted*/) const {}
   /// Point-to-point messages this rank has sent in exchange() and exchange_with() so far
   /// (exchange(): one count and one block to every other rank, 2 (P - 1); the collectives of
   /// the sums are not counted): the figure of docs/dem.md "Neighbour-only exchanges".

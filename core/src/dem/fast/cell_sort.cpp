@@ -20,6 +20,8 @@ FastEngine::Impl::CellOrder FastEngine::Impl::sort_owned_by_cell() {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i) order[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
   }
+  s.n_interior = n;
+  if (distributed()) put_halo_layer_last(order);  // (the search then makes its own cells)
   // Every array follows its particle except two that the sort need not carry: x_build is
   // set from x below, and the energy terms are the last evaluation's outputs, which this
   // step's evaluation (after the build) writes afresh for every owned particle before any

@@ -183,6 +183,7 @@ struct FastEngine::Impl {
   long recuts = 0;
   long global_exchanges = 0;
   long exchanges = 0;  ///< LoadReport::exchanges
+  long overlapped_refreshes = 0;  ///< LoadReport::overlapped_refreshes
   std::size_t total = 0;  ///< particles of the whole system
   double skin = 0.0;      ///< [m]
   double skin_fraction = 0.2;  ///< FastOptions::skin_fraction (insertion may raise R_max)
@@ -271,6 +272,12 @@ struct FastEngine::Impl {
   /// peers := the ranks within the halo reach (2 R_max + skin) of this rank's brick.
   void update_peers();
 
+  /// The owned particles within the halo reach of a peer's brick (the halo layer: those that
+  /// can have a ghost partner until the next build, a superset of those that do) moved after
+  /// the others in `order` (the cell sort's order[new] = old, a stable partition: the cell
+  /// order holds within each part); s.n_interior := the others' count.
+  void put_halo_layer_last(std::vector<std::uint32_t>& order);
+
   /// Ghosts (the halo plan): every owned particle whose centre is within the interaction
   /// range 2 R_max + skin of rank r's brick goes to rank r with all its fields.
   void make_ghosts();
@@ -284,6 +291,17 @@ struct FastEngine::Impl {
   /// so its moving fields are its owner's bits: 48 bytes a ghost instead of the 120 of x, v,
   /// omega, pv, pw (docs/dem.md "Domain decomposition").
   void refresh_ghosts(bool cached);
+
+  /// refresh_ghosts split in two, for a step that will not build: the messages are posted
+  /// now (after pack_ghost_kicks, before the drift), and the force kernel completes them
+  /// between the interior particles and the halo layer (HaloInFlight: wait, then the ghosts'
+  /// kicks and drifts); the same messages and bits as refresh_ghosts.
+  struct GhostKicksInFlight;
+  std::unique_ptr<HaloInFlight> post_ghost_kicks(bool cached);
+
+  /// The ghosts' half kicks received from the peers (`from`, in the plan's order) applied:
+  /// each ghost repeats its owner's arithmetic (refresh_ghosts).
+  void apply_ghost_kicks(const std::vector<Bytes>& from, bool cached);
 
   /// A list build: migration (several ranks), sort of the owned particles by cell, ghosts,
   /// then the full neighbour list of the owned particles (pairs closer than R_i + R_j + skin,
@@ -307,7 +325,8 @@ struct FastEngine::Impl {
   };
 
   /// Sorts the owned particles by cell (stable); returns the grid, the cells' starts and the
-  /// order (empty if there are no owned particles).
+  /// order (empty if there are no owned particles). Several ranks: the halo layer then goes
+  /// last (put_halo_layer_last), and the starts are not those of the new order.
   CellOrder sort_owned_by_cell();
 
   /// Neighbour search over owned + ghost particles for the owned ones, each particle
@@ -346,7 +365,8 @@ struct FastEngine::Impl {
   /// A force evaluation. `closing_kick` (a step): the second half kick follows the kernel (or
   /// runs in its sum pass). One rank: sums the rates only (energies tracked); several ranks:
   /// one allreduce of a StepRecord (step_record.hpp) and nothing else.
-  void evaluate_forces(double history_dt, bool closing_kick = false);
+  /// `halo`: the halo refresh in flight (a step), completed here at the latest.
+  void evaluate_forces(double history_dt, bool closing_kick = false, HaloInFlight* halo = nullptr);
   /// s.reach for the evaluation at `time` [s] (step.cpp).
   void update_reach(double time);
 

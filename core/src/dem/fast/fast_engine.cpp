@@ -59,6 +59,21 @@ std::array<int, 3> FastEngine::rank_grid() const { return impl_->decomposition.d
 LoadReport FastEngine::load_report() const { return impl_->load_report(); }
 std::size_t FastEngine::owned_count() const { return impl_->s.owned; }
 std::size_t FastEngine::ghost_count() const { return impl_->s.size() - impl_->s.owned; }
+std::size_t FastEngine::interior_count() const { return impl_->s.n_interior; }
+std::size_t FastEngine::interior_near_ghosts() const {
+  const FastState& s = impl_->s;
+  std::size_t near = 0;
+  for (std::size_t i = 0; i < s.n_interior; ++i) {
+    bool found = false;
+    for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) found = found || s.partner[slot] >= s.owned;
+    for (std::size_t g = s.owned; g < s.size(); ++g) {
+      const double reach = s.radius[i] + s.radius[g] + impl_->skin;
+      found = found || (s.x_build[i] - s.x_build[g]).squaredNorm() < reach * reach;  // at the build
+    }
+    near += found ? 1 : 0;
+  }
+  return near;
+}
 
 namespace {
 

@@ -138,6 +138,11 @@ struct FastState {
   // at every list build), then [owned, size()) the ghosts (copies of other ranks' particles
   // within the interaction range, in the order of the halo plan; none on one rank) ---
   std::size_t owned = 0;
+  /// The owned particles [0, n_interior) have no ghost partner: a list build puts the halo
+  /// layer (the owned particles within the halo reach of another rank's brick) last, so the
+  /// pair pass can run the interior while the halo refresh is in flight (cell_sort.cpp,
+  /// docs/dem.md "Domain decomposition (MPI)"). One rank: n_interior = owned.
+  std::size_t n_interior = 0;
   std::vector<std::int64_t> id;
   std::vector<std::uint32_t> original;  ///< construction index (the seed's newtoorig)
   std::vector<std::uint32_t> where;     ///< inverse: storage index of construction index o
@@ -547,13 +552,27 @@ double kicks_and_drifts(FastState& s, std::size_t begin, std::size_t end, bool c
 /// bits; close_kicks.cpp). Returns a screen that is finite if and only if every close_kick's is.
 double close_kicks(FastState& s, std::size_t begin, std::size_t end);
 
+/// The halo refresh in flight during an evaluation (step.cpp): the ghosts' moving fields are
+/// not yet this step's. The pair pass polls it now and then from the master thread during the
+/// interior particles (MPI makes progress on large messages only inside MPI calls), and the
+/// master thread completes it (wait, then the ghosts' kicks and drifts) before any thread
+/// evaluates the halo layer.
+class HaloInFlight {
+ public:
+  virtual ~HaloInFlight() = default;
+  virtual void poll() = 0;
+  virtual void complete() = 0;
+};
+
 /// A force evaluation: contact forces and torques of every OWNED particle at time `time` with
 /// history increment interval `dt` (0 at start-up); fills f, t, the energy terms, the new
 /// boundary records and the counts.
+/// `halo`: the halo refresh in flight (or null): the interior particles [0, s.n_interior)
+/// are evaluated first, the halo layer after halo->complete().
 class ForceKernel {
  public:
   virtual ~ForceKernel() = default;
-  virtual void evaluate(FastState& s, double time, double dt) const = 0;
+  virtual void evaluate(FastState& s, double time, double dt, HaloInFlight* halo) const = 0;
 };
 
 /// The kernel for the scene's law, friction and boundary kinds. `vector_contacts`: evaluate the

@@ -13,7 +13,9 @@
 // An evaluation runs these passes (each in its own function, all inlined into evaluate()):
 //   prepare_ranges      wall positions, the threads' ranges, spring pools and links
 //   pair pass           per range: pair contacts, then each particle's boundaries
-//                       (force_pairs.hpp, force_boundaries.hpp)
+//                       (force_pairs.hpp, force_boundaries.hpp); with the halo refresh in
+//                       flight, each range's interior part, the refresh completed, then its
+//                       halo layer (docs/dem.md "The halo refresh behind the interior")
 //   size_record_table   the new boundary records' table (force_sums.hpp)
 //   sum pass            frictional kernels: each particle adds its lower-id partners' results
 //                       and its boundary records, and closes the step's kick (force_sums.hpp)
@@ -153,7 +155,7 @@ class Kernel final : public ForceKernel {
   // flatten: inline the passes, the contact law and contact_force.hpp into the loops (no
   // change in the arithmetic: GCC does not reassociate or contract without -ffast-math / FMA
   // targets).
-  [[gnu::flatten]] void evaluate(FastState& s, double time, double dt) const override {
+  [[gnu::flatten]] void evaluate(FastState& s, double time, double dt, HaloInFlight* halo) const override {
     const std::size_t n = s.owned;  // ghosts ([owned, size())) are partners only
     const std::size_t nb = s.boundaries.size();
     const std::uint32_t near_mask = nb < 32 ? (std::uint32_t{1} << nb) - 1u : ~std::uint32_t{0};  // near_boundaries' bits
@@ -163,11 +165,27 @@ class Kernel final : public ForceKernel {
     // Fewer pair contacts than half the particles at the last evaluation: most particles
     // touch nothing, and the sum pass skips their lower-id results (the same bits either way).
     const bool dilute = 2 * s.pair_contacts < n;
+    // With the halo refresh in flight each range runs its interior particles, then (after the
+    // master thread has completed the refresh, and a barrier) its halo layer: the same
+    // particles in the same order, cut at one more chunk boundary (the same bits).
+    const std::size_t interior = halo != nullptr ? std::min(s.n_interior, n) : n;
     std::size_t pairs = 0;
     std::size_t touching_boundaries = 0;
     PPOHDEM_OMP(omp parallel num_threads(threads) reduction(+ : pairs, touching_boundaries))
     {
-      PPOHDEM_OMP(omp for schedule(static, 1))
+      // The pair pass over [begin, end) of range `range` (a part of it, or all of it).
+      auto pair_pass = [&](std::size_t range, std::size_t begin, std::size_t end, HaloInFlight* poll) {
+        const auto started = std::chrono::steady_clock::now();  // for balance_split
+        RangePass pass{s, time, dt, range, s.threads[range], pairs, touching_boundaries, n, nb, near_mask, has_ghosts,
+                       begin, end, poll};
+        if constexpr (kFriction) {
+          frictional_pair_pass(*this, pass);
+        } else {
+          frictionless_pair_pass(*this, pass);
+        }
+        s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      };
+      PPOHDEM_OMP(omp for schedule(static, 1) nowait)
       for (std::size_t range = 0; range < ranges; ++range) {
         ThreadOutput& out = s.threads[range];
         out.records.clear();
@@ -176,14 +194,21 @@ class Kernel final : public ForceKernel {
         if constexpr (kEnergy) {
           for (ExactSum& rate : out.rates) rate.reset();
         }
-        const auto started = std::chrono::steady_clock::now();  // for balance_split
-        RangePass pass{s, time, dt, range, out, pairs, touching_boundaries, n, nb, near_mask, has_ghosts};
-        if constexpr (kFriction) {
-          frictional_pair_pass(*this, pass);
-        } else {
-          frictionless_pair_pass(*this, pass);
+        const std::size_t begin = s.split[range];
+        const std::size_t end = std::max(begin, std::min(s.split[range + 1], interior));
+        pair_pass(range, begin, end, halo != nullptr && thread_id() == 0 ? halo : nullptr);
+      }
+      if (halo != nullptr) {
+        PPOHDEM_OMP(omp master)
+        halo->complete();
+      }
+      PPOHDEM_OMP(omp barrier)
+      if (interior < n) {
+        PPOHDEM_OMP(omp for schedule(static, 1))
+        for (std::size_t range = 0; range < ranges; ++range) {
+          const std::size_t end = s.split[range + 1];
+          pair_pass(range, std::min(end, std::max(s.split[range], interior)), end, nullptr);
         }
-        s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       }
       size_record_table<Kernel>(s, ranges);
       if constexpr (kHalf) {

@@ -239,8 +239,10 @@ template <class K>
 inline void frictional_pair_pass(const K& kernel, RangePass& pass) {
   FastState& s = pass.s;
   PairBatch& batch = pass.out.batch;
-  for (std::size_t chunk = s.split[pass.range]; chunk < s.split[pass.range + 1]; chunk += kChunk) {
-    const std::size_t chunk_end = std::min(chunk + kChunk, s.split[pass.range + 1]);
+  std::size_t chunks = 0;
+  for (std::size_t chunk = pass.begin; chunk < pass.end; chunk += kChunk) {
+    if (pass.poll != nullptr && ++chunks % kPollChunks == 0) pass.poll->poll();
+    const std::size_t chunk_end = std::min(chunk + kChunk, pass.end);
     // At most one entry per slot (plus the scratch entry written past the last): sized once,
     // then written without a branch per slot.
     const std::size_t most = s.first[chunk_end] - s.first[chunk] + 1;
@@ -273,7 +275,8 @@ template <class K>
 inline void frictionless_pair_pass(const K& kernel, RangePass& pass) {
   FastState& s = pass.s;
   const double dt = pass.dt;
-  for (std::size_t i = s.split[pass.range]; i < s.split[pass.range + 1]; ++i) {
+  for (std::size_t i = pass.begin; i < pass.end; ++i) {
+    if (pass.poll != nullptr && (i - pass.begin) % (kPollChunks * kChunk) == kPollChunks * kChunk - 1) pass.poll->poll();
     ParticleSums sums;
     const Vec3 xi = s.x[i];
     const double ri = s.radius[i];

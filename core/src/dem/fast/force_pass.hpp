@@ -38,7 +38,15 @@ struct RangePass {
   std::size_t boundaries;   ///< s.boundaries.size()
   std::uint32_t near_mask;  ///< the bits of s.near_boundaries in use (the first 32 boundaries)
   bool has_ghosts;          ///< s.size() > n
+  /// The particles of this part of the range: [split[range], split[range + 1]), or its part
+  /// below or at and above s.n_interior while the halo refresh is in flight.
+  std::size_t begin, end;
+  /// Polled every kPollChunks chunks (the master thread's interior part only; else null).
+  HaloInFlight* poll = nullptr;
 };
+
+/// Chunks between two polls of the halo refresh in flight.
+constexpr std::size_t kPollChunks = 4;
 
 /// One particle's sums in the first pass: force [N] and torque [N m] of its contacts (the
 /// frictional kernels' first part only: the sum pass adds the rest), and with kEnergy its

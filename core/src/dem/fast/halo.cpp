@@ -10,6 +10,26 @@ void FastEngine::Impl::update_peers() {
   peers = distributed() ? halo_peers(decomposition, comm->rank(), reach) : std::vector<int>{};
 }
 
+void FastEngine::Impl::put_halo_layer_last(std::vector<std::uint32_t>& order) {
+  update_peers();  // the bricks may have been re-cut (rebalance)
+  const double reach = halo_reach(r_max, skin);
+  // A ghost partner j of rank r lies in r's brick at the build (migration puts every particle
+  // in its owner's brick; the outer bricks extend to infinity) and within reach of owned
+  // particle k, so k is within reach of that brick: the halo rule, as make_ghosts applies it.
+  std::vector<std::uint8_t> layer(order.size(), 0);  // by index before the sort
+  PPOHDEM_OMP(omp parallel for schedule(static) if (order.size() >= kParallelMin))
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    for (const int r : peers) {
+      if (in_halo(decomposition, r, s.x[k], reach)) {
+        layer[k] = 1;
+        break;
+      }
+    }
+  }
+  const auto interior_end = std::stable_partition(order.begin(), order.end(), [&](std::uint32_t k) { return layer[k] == 0; });
+  s.n_interior = static_cast<std::size_t>(interior_end - order.begin());
+}
+
 void FastEngine::Impl::make_ghosts() {
   update_peers();  // r_max may have changed (a restore)
   const std::size_t ranks = peers.size();
@@ -61,6 +81,11 @@ void FastEngine::Impl::refresh_ghosts(bool cached) {
   for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * sizeof(HalfKick);
   const std::vector<Bytes> from = comm->exchange_with(peers, halo_kicks, &sizes);
   ++exchanges;
+  apply_ghost_kicks(from, cached);
+}
+
+void FastEngine::Impl::apply_ghost_kicks(const std::vector<Bytes>& from, bool cached) {
+  const std::size_t ranks = halo_send.size();
   std::size_t g = s.owned;
   for (std::size_t r = 0; r < ranks; ++r) {
     const std::size_t count = halo_recv[r];
@@ -78,6 +103,33 @@ void FastEngine::Impl::refresh_ghosts(bool cached) {
       kick_and_drift(s, g, kick);
     }
   }
+}
+
+struct FastEngine::Impl::GhostKicksInFlight final : HaloInFlight {
+  Impl& m;
+  bool cached;
+  std::unique_ptr<Comm::PostedExchange> posted;
+  bool done = false;
+  GhostKicksInFlight(Impl& engine, bool cached_kick, std::unique_ptr<Comm::PostedExchange> exchange)
+      : m(engine), cached(cached_kick), posted(std::move(exchange)) {}
+  void poll() override {
+    if (!done) m.comm->progress_exchange(*posted);
+  }
+  void complete() override {
+    if (done) return;
+    m.comm->finish_exchange(*posted);
+    m.apply_ghost_kicks(posted->from, cached);
+    done = true;
+  }
+};
+
+std::unique_ptr<HaloInFlight> FastEngine::Impl::post_ghost_kicks(bool cached) {
+  const std::size_t ranks = halo_send.size();
+  std::vector<std::size_t> sizes(ranks);  // known from the plan: one message each way
+  for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * sizeof(HalfKick);
+  ++exchanges;
+  ++overlapped_refreshes;
+  return std::make_unique<GhostKicksInFlight>(*this, cached, comm->post_exchange_with(peers, halo_kicks, sizes));
 }
 
 }  // namespace ppohdem::dem::fast

@@ -65,9 +65,14 @@ HaloProjection project_halo(int ranks, const std::vector<Vec3>& x, const std::ve
     std::vector<std::size_t> sends(peers.size(), 0);
     for (std::size_t m = first[static_cast<std::size_t>(r)]; m < first[static_cast<std::size_t>(r) + 1]; ++m) {
       const Vec3& p = x[members[m]];
+      bool layer = false;  // the halo layer, as put_halo_layer_last selects it
       for (std::size_t i = 0; i < peers.size(); ++i) {
-        if (in_halo(d, peers[i], p, out.reach)) ++sends[i];
+        if (in_halo(d, peers[i], p, out.reach)) {
+          ++sends[i];
+          layer = true;
+        }
       }
+      me.interior += layer ? 0 : 1;
     }
     for (std::size_t i = 0; i < peers.size(); ++i) {
       if (sends[i] == 0) continue;  // refresh_ghosts sends no empty block

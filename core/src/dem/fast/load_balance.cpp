@@ -46,6 +46,7 @@ LoadReport FastEngine::Impl::load_report() const {
   r.global_exchanges = global_exchanges;
   r.peers = peers.size();
   r.exchanges = exchanges;
+  r.overlapped_refreshes = overlapped_refreshes;
   if (!distributed()) return r;
   const int ranks = comm->size();
   // The counts of the last build's positions (x_build: the owners were decided there) in the
@@ -67,6 +68,9 @@ LoadReport FastEngine::Impl::load_report() const {
   const auto ghosts = static_cast<double>(s.size() - s.owned);  // made at the last list build
   r.ghosts_mean = comm->sum_over_ranks(ghosts) / ranks;
   r.ghosts_max = comm->max_over_ranks(ghosts);
+  const auto interior = static_cast<double>(s.n_interior);
+  r.interior_mean = comm->sum_over_ranks(interior) / ranks;
+  r.interior_min = -comm->max_over_ranks(-interior);
   r.max_over_mean = max_over_mean(0);
   r.equal_bricks_max_over_mean = max_over_mean(static_cast<std::size_t>(ranks));
   return r;

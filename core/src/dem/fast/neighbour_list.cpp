@@ -175,12 +175,18 @@ void FastEngine::Impl::search_neighbours(const CellOrder* sorted) {
   s.partner.swap(partner);
   s.upper_first.swap(upper_first);
   s.lower_ghost.assign(n, 0);
-  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+  std::size_t misplaced = 0;  // interior particles with a ghost partner (put_halo_layer_last)
+  PPOHDEM_OMP(omp parallel for schedule(static) reduction(+ : misplaced) if (n >= kParallelMin))
   for (std::size_t i = 0; i < n; ++i) {
     for (std::uint32_t slot = s.first[i]; slot < s.upper_first[i]; ++slot) {
       if (s.partner[slot] >= n) s.lower_ghost[i] = 1;
     }
+    if (i < s.n_interior) {
+      for (std::uint32_t slot = s.first[i]; slot < s.first[i + 1]; ++slot) misplaced += s.partner[slot] >= n;
+    }
   }
+  // The overlapped halo refresh evaluates the interior before the ghosts are refreshed.
+  if (misplaced != 0) throw std::logic_error("fast engine: an interior particle has a ghost partner");
   link_mirrors();
 }
 

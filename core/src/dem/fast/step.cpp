@@ -15,13 +15,14 @@ void FastEngine::Impl::update_reach(double time) {
   }
 }
 
-void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick) {
+void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick, HaloInFlight* halo) {
   s.closing_kick = closing_kick;
   s.kick_closed = false;
   s.predict_drift = closing_kick && distributed();
   const double time = static_cast<double>(steps) * s.dt;
   update_reach(time);
-  kernel->evaluate(s, time, history_dt);
+  kernel->evaluate(s, time, history_dt, halo);
+  if (halo != nullptr) halo->complete();  // done by the kernel (a no-op then)
   energies_cache.reset();
   restored_elastic.reset();
   if (closing_kick) close_step();
@@ -85,7 +86,15 @@ void FastEngine::Impl::step() {
   // that step left it in pv, pw (free between steps), which saves 6 of the 12 divisions of
   // a particle-step; after a (re)start the kick is computed afresh.
   const bool cached = kick_cached;
-  if (distributed()) pack_ghost_kicks(cached);  // before the drift, which overwrites pv, pw
+  const double limit = 0.25 * skin * skin;  // largest displacement > skin / 2
+  // Several ranks: when the last closing kick predicted this drift (drift_over_ranks) and
+  // no build follows, the halo refresh is posted now and travels during the drift and the
+  // interior particles' pairs (docs/dem.md "Domain decomposition (MPI)").
+  std::unique_ptr<HaloInFlight> in_flight;
+  if (distributed()) {
+    pack_ghost_kicks(cached);  // before the drift, which overwrites pv, pw
+    if (cached && drift_over_ranks && !(*drift_over_ranks > limit)) in_flight = post_ghost_kicks(cached);
+  }
   PPOHDEM_OMP(omp parallel for schedule(static) reduction(max : largest) if (n >= kParallelMin))
   for (std::size_t piece = 0; piece < n; piece += kKickPiece) {
     largest = std::max(largest, kicks_and_drifts(s, piece, std::min(piece + kKickPiece, n), cached));
@@ -93,7 +102,6 @@ void FastEngine::Impl::step() {
   ++steps;
   // The same decision on every rank: the maximum over ranks, known since the last closing
   // kick's allreduce when that kick is the one just applied (evaluate_forces), else asked now.
-  const double limit = 0.25 * skin * skin;  // largest displacement > skin / 2
   bool build = largest > limit;
   if (distributed()) {
     if (cached && drift_over_ranks) {
@@ -112,10 +120,10 @@ void FastEngine::Impl::step() {
   drift_over_ranks.reset();
   if (build) {
     build_lists();
-  } else {
+  } else if (!in_flight) {
     refresh_ghosts(cached);
   }
-  evaluate_forces(s.dt, /*closing_kick=*/true);
+  evaluate_forces(s.dt, /*closing_kick=*/true, in_flight.get());
   out_valid = false;
 }
 

@@ -97,6 +97,9 @@ struct LoadReport {
   long exchanges = 0;                 ///< halo refreshes, ghost creations and migrations so far
   double ghosts_mean = 0.0;           ///< ghosts per rank (mean over the ranks, at the last list build)
   double ghosts_max = 0.0;            ///< ghosts on the rank with the most
+  double interior_mean = 0.0;         ///< interior particles per rank (no ghost partner; at the last list build)
+  double interior_min = 0.0;          ///< interior particles on the rank with the fewest
+  long overlapped_refreshes = 0;      ///< of `exchanges`: halo refreshes overlapped with the interior pairs
 };
 
 /// How fast the force kernel's threads ran against each other (a diagnostic: no result depends
@@ -176,6 +179,13 @@ class FastEngine final : public DemEngine {
   LoadReport load_report() const;
   std::size_t owned_count() const;       ///< particles owned by this rank
   std::size_t ghost_count() const;       ///< ghosts held by this rank (since the last build)
+  /// Owned particles without a ghost partner, first in storage order (since the last build;
+  /// owned_count() on one rank): the pairs evaluated while the halo refresh travels.
+  std::size_t interior_count() const;
+  /// Of the interior_count() particles, those with a ghost in their neighbour list or within
+  /// R_i + R_j + skin of a ghost j at the last build, by brute force over every such pair: 0
+  /// unless the halo layer is wrong (a test's check; O(owned x ghosts)).
+  std::size_t interior_near_ghosts() const;
   long neighbour_list_builds() const;  ///< number of list builds so far (diagnostics)
   double skin() const;                 ///< [m]
   std::size_t neighbour_slots() const; ///< entries of the full list (diagnostics)

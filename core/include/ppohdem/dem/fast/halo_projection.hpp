@@ -18,6 +18,9 @@ namespace ppohdem::dem::fast {
 /// One rank's share at a list build and its halo traffic per step.
 struct RankTraffic {
   std::size_t owned = 0;       ///< particles it owns
+  /// Of those, the interior ones: within the halo reach of no other rank's brick (no ghost
+  /// partner; their pairs hide the halo refresh, docs/dem.md "Domain decomposition (MPI)").
+  std::size_t interior = 0;
   std::size_t ghosts_in = 0;   ///< ghosts it holds (received from its peers)
   std::size_t ghosts_out = 0;  ///< ghost copies of its particles it sends (one per peer that needs one)
   int peers = 0;               ///< ranks within the halo reach of its brick
