@@ -166,22 +166,7 @@ class MpiComm final : public Comm {
     // With the sizes known, an empty block is neither sent nor awaited (both sides know it is
     // empty); with the counts exchanged every block goes, so that the counts are matched.
     std::vector<Bytes> from(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      from[i].resize(recv_counts[i]);
-      if (sizes != nullptr && recv_counts[i] == 0) continue;
-      requests.emplace_back();
-      check(MPI_Irecv(from[i].data(), to_int_count(from[i].size()), MPI_BYTE, peers[i], 2, MPI_COMM_WORLD,
-                      &requests.back()),
-            "MPI_Irecv");
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      if (sizes != nullptr && to[i].empty()) continue;
-      requests.emplace_back();
-      check(MPI_Isend(to[i].data(), to_int_count(to[i].size()), MPI_BYTE, peers[i], 2, MPI_COMM_WORLD,
-                      &requests.back()),
-            "MPI_Isend");
-      ++messages_sent_;
-    }
+    post_blocks(peers, to, recv_counts, /*tag=*/2, /*skip_empty=*/sizes != nullptr, from, requests);
     check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
     return from;
   }
@@ -198,22 +183,8 @@ class MpiComm final : public Comm {
     auto posted = std::make_unique<MpiPostedExchange>();
     posted->from.resize(n);
     posted->requests.reserve(2 * n);
-    for (std::size_t i = 0; i < n; ++i) {  // as exchange_with with the sizes known: no empty blocks
-      posted->from[i].resize(sizes[i]);
-      if (sizes[i] == 0) continue;
-      posted->requests.emplace_back();
-      check(MPI_Irecv(posted->from[i].data(), to_int_count(sizes[i]), MPI_BYTE, peers[i], 3, MPI_COMM_WORLD,
-                      &posted->requests.back()),
-            "MPI_Irecv");
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      if (to[i].empty()) continue;
-      posted->requests.emplace_back();
-      check(MPI_Isend(to[i].data(), to_int_count(to[i].size()), MPI_BYTE, peers[i], 3, MPI_COMM_WORLD,
-                      &posted->requests.back()),
-            "MPI_Isend");
-      ++messages_sent_;
-    }
+    // As exchange_with with the sizes known: no empty blocks.
+    post_blocks(peers, to, sizes, /*tag=*/3, /*skip_empty=*/true, posted->from, posted->requests);
     return posted;
   }
   void progress_exchange(PostedExchange& posted) const override {
@@ -255,6 +226,30 @@ class MpiComm final : public Comm {
   }
 
  private:
+  /// The receives of from[i] (counts[i] bytes from peers[i]) and the sends of to[i], with `tag`,
+  /// appended to `requests`; with skip_empty, an empty block is neither sent nor awaited.
+  template <class Count>
+  void post_blocks(const std::vector<int>& peers, const std::vector<Bytes>& to, const std::vector<Count>& counts, int tag,
+                   bool skip_empty, std::vector<Bytes>& from, std::vector<MPI_Request>& requests) const {
+    const std::size_t n = peers.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      from[i].resize(static_cast<std::size_t>(counts[i]));
+      if (skip_empty && from[i].empty()) continue;
+      requests.emplace_back();
+      check(MPI_Irecv(from[i].data(), to_int_count(from[i].size()), MPI_BYTE, peers[i], tag, MPI_COMM_WORLD,
+                      &requests.back()),
+            "MPI_Irecv");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (skip_empty && to[i].empty()) continue;
+      requests.emplace_back();
+      check(MPI_Isend(to[i].data(), to_int_count(to[i].size()), MPI_BYTE, peers[i], tag, MPI_COMM_WORLD,
+                      &requests.back()),
+            "MPI_Isend");
+      ++messages_sent_;
+    }
+  }
+
   mutable MPI_Op combine_op_ = MPI_OP_NULL;                ///< combine_over_ranks' operation
   mutable MPI_Datatype record_type_ = MPI_DATATYPE_NULL;  ///< its record type, of record_words_
   mutable std::size_t record_words_ = 0;

@@ -291,6 +291,8 @@ struct FastEngine::Impl {
   /// so its moving fields are its owner's bits: 48 bytes a ghost instead of the 120 of x, v,
   /// omega, pv, pw (docs/dem.md "Domain decomposition").
   void refresh_ghosts(bool cached);
+  /// The bytes of each peer's half kicks to receive (the plan's ghost counts x 48).
+  std::vector<std::size_t> ghost_kick_sizes() const;
 
   /// refresh_ghosts split in two, for a step that will not build: the messages are posted
   /// now (after pack_ghost_kicks, before the drift), and the force kernel completes them

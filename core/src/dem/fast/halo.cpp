@@ -73,12 +73,16 @@ void FastEngine::Impl::pack_ghost_kicks(bool cached) {
   }
 }
 
+std::vector<std::size_t> FastEngine::Impl::ghost_kick_sizes() const {
+  std::vector<std::size_t> sizes(halo_recv.size());  // known from the plan: one message each way
+  for (std::size_t r = 0; r < sizes.size(); ++r) sizes[r] = halo_recv[r] * sizeof(HalfKick);
+  return sizes;
+}
+
 void FastEngine::Impl::refresh_ghosts(bool cached) {
   if (!distributed()) return;
   static_assert(sizeof(HalfKick) == 2 * sizeof(Vec3) && sizeof(Vec3) == 3 * sizeof(double), "plain doubles");
-  const std::size_t ranks = halo_send.size();
-  std::vector<std::size_t> sizes(ranks);  // known from the plan: one message each way
-  for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * sizeof(HalfKick);
+  const std::vector<std::size_t> sizes = ghost_kick_sizes();
   const std::vector<Bytes> from = comm->exchange_with(peers, halo_kicks, &sizes);
   ++exchanges;
   apply_ghost_kicks(from, cached);
@@ -124,12 +128,9 @@ struct FastEngine::Impl::GhostKicksInFlight final : HaloInFlight {
 };
 
 std::unique_ptr<HaloInFlight> FastEngine::Impl::post_ghost_kicks(bool cached) {
-  const std::size_t ranks = halo_send.size();
-  std::vector<std::size_t> sizes(ranks);  // known from the plan: one message each way
-  for (std::size_t r = 0; r < ranks; ++r) sizes[r] = halo_recv[r] * sizeof(HalfKick);
   ++exchanges;
   ++overlapped_refreshes;
-  return std::make_unique<GhostKicksInFlight>(*this, cached, comm->post_exchange_with(peers, halo_kicks, sizes));
+  return std::make_unique<GhostKicksInFlight>(*this, cached, comm->post_exchange_with(peers, halo_kicks, ghost_kick_sizes()));
 }
 
 }  // namespace ppohdem::dem::fast
