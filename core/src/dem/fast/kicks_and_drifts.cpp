@@ -33,10 +33,13 @@ double kicks_and_drifts_one_by_one(FastState& s, std::size_t begin, std::size_t 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles: 8 particles are 3 registers");
 
 /// The cached kick (pv, pw): eight particles' Vec3 fields are 24 consecutive doubles, three
-/// registers, each lane one component of one particle.
-[[gnu::target("avx512f")]] double kicks_and_drifts_avx512(FastState& s, std::size_t begin, std::size_t end) {
+/// registers, each lane one component of one particle. Whole blocks of eight from `begin`;
+/// returns where they end, the largest squared displacement in `largest`. It calls nothing
+/// and ends with vzeroupper: the caller's SSE code must not run with the upper halves of the
+/// registers dirty, which Intel cores make pay a merge on every instruction (GCC left them
+/// dirty before the one-by-one tail's call here; docs/portability.md "Upper register state").
+[[gnu::target("avx512f")]] std::size_t kicks_and_drifts_avx512(FastState& s, std::size_t begin, std::size_t end, double& largest) {
   const __m512d dt = _mm512_set1_pd(s.dt);
-  double largest = 0.0;
   std::size_t i = begin;
   for (; i + 8 <= end; i += 8) {
     double squares[24];
@@ -58,7 +61,8 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles:
     }
     for (int p = 0; p < 8; ++p) largest = std::max(largest, (squares[3 * p] + squares[3 * p + 1]) + squares[3 * p + 2]);
   }
-  return std::max(largest, kicks_and_drifts_one_by_one(s, i, end, true));
+  _mm256_zeroupper();
+  return i;
 }
 #endif
 
@@ -67,7 +71,11 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles:
 double kicks_and_drifts(FastState& s, std::size_t begin, std::size_t end, bool cached) {
 #ifdef PPOHDEM_DRIFT_LANES
   static const bool eight = simd_level() >= SimdLevel::avx512;  // the level is fixed for the process
-  if (eight && cached) return kicks_and_drifts_avx512(s, begin, end);
+  if (eight && cached) {
+    double largest = 0.0;
+    const std::size_t tail = kicks_and_drifts_avx512(s, begin, end, largest);
+    return std::max(largest, kicks_and_drifts_one_by_one(s, tail, end, true));
+  }
 #endif
   return kicks_and_drifts_one_by_one(s, begin, end, cached);
 }
