@@ -35,9 +35,9 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles:
 /// The cached kick (pv, pw): eight particles' Vec3 fields are 24 consecutive doubles, three
 /// registers, each lane one component of one particle. Whole blocks of eight from `begin`;
 /// returns where they end, the largest squared displacement in `largest`. It calls nothing
-/// and ends with vzeroupper: the caller's SSE code must not run with the upper halves of the
-/// registers dirty, which Intel cores make pay a merge on every instruction (GCC left them
-/// dirty before the one-by-one tail's call here; docs/portability.md "Upper register state").
+/// and ends with vzeroupper: with the registers' upper halves dirty, Intel cores add a merge
+/// to every later SSE instruction of the step (GCC left them dirty before the tail's call
+/// here; docs/portability.md "Upper register state").
 [[gnu::target("avx512f")]] std::size_t kicks_and_drifts_avx512(FastState& s, std::size_t begin, std::size_t end, double& largest) {
   const __m512d dt = _mm512_set1_pd(s.dt);
   std::size_t i = begin;
