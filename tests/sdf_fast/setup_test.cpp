@@ -52,7 +52,7 @@ void expect_same_tree(const fast::TriangleTree& serial, const fast::TriangleTree
 }
 
 TEST(FastSdfSetup, TreeBuiltAsTasksIsTheSerialTreeBitForBit) {
-  // The dragon (100,000 triangles) is split into tasks down to subtrees of 16,384 triangles.
+  // The dragon (100,000 triangles) is split into tasks down to subtrees of 4,096 triangles.
   const TriangleMesh mesh = read_stl(test::fixture("meshes/dragon_100k.stl"));
   for (const bool oriented : {true, false}) {
     SCOPED_TRACE(oriented ? "oriented boxes" : "axis-aligned boxes");

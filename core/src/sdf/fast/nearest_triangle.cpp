@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <type_traits>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -38,10 +39,13 @@ constexpr std::uint32_t kOrientedMaxTriangles = 1024;
 /// queries, the median split's cheaper build wins (docs/performance.md "Surface-area-heuristic
 /// split" and "Trials that were dropped").
 constexpr int kSahBins = 32;
-/// Subtrees of at least this many triangles are built as OpenMP tasks (in a parallel region): 8
-/// tasks of about 12,500 triangles for the 100,000 of the dragon, each copied into its parent's
-/// node array 3 times, which costs far less than the build.
-constexpr std::uint32_t kTaskMinTriangles = 16384;
+/// Nodes of at least this many triangles split into two OpenMP tasks (in a parallel region);
+/// no task waits for its children, and each subtree's nodes are copied once, into the tree, at
+/// the end (TriangleTree::place).
+constexpr std::uint32_t kTaskMinTriangles = 4096;
+// A task's node is still being split when its parent's oriented box is fitted: that fit must not
+// read the triangles (it does not above kOrientedMaxTriangles).
+static_assert(kTaskMinTriangles > kOrientedMaxTriangles);
 /// Below this depth the split is the SAH's, deeper the median's (a bound on the tree's depth for
 /// the traversals' fixed stacks of 128 entries: at most 48 + log2(n) levels).
 constexpr int kSahMaxDepth = 48;
@@ -153,6 +157,9 @@ struct TriangleTree::BuildInput {
 struct TriangleTree::BuildOutput {
   std::vector<Node> nodes;
   std::vector<OrientedNode> oriented;  ///< parallel to nodes (if oriented)
+  /// A node split into tasks: its subtrees, each built into an output of its own (`nodes` then
+  /// holds this node alone, its right child's index still to be set by place()).
+  std::unique_ptr<BuildOutput> left, right;
 };
 
 TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bool oriented_boxes)
@@ -180,10 +187,31 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bo
   slack_ = 1e-12 * std::max({scale, std::abs(coordinate_scale), 1e-300});
   BuildOutput out;
   reserve_nodes(out, n);
-  if (n > 0) build(in, out, 0, static_cast<std::uint32_t>(n), 0);
-  nodes_ = std::move(out.nodes);
-  oriented_ = std::move(out.oriented);
-  // The loops below as tasks too (taskloop: serial outside a parallel region).
+  // The group waits for every task of the build; its waiting thread may run any of them (a
+  // task that waited for its own children would idle while the other thread builds:
+  // docs/performance.md "The whole voxelize process").
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp taskgroup
+#endif
+  {
+    if (n > 0) build(in, out, 0, static_cast<std::uint32_t>(n), 0);
+  }
+  // The nodes placed (and their child pairs' storage sized) in one task, beside the triangles in
+  // tree order (tasks run in order outside a parallel region).
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp task default(shared)
+#endif
+  {
+    if (out.left) {  // built in tasks: the parts in depth-first order
+      nodes_.reserve(2 * n);
+      if (oriented_boxes_) oriented_.reserve(2 * n);
+      place(out);
+    } else {
+      nodes_ = std::move(out.nodes);
+      oriented_ = std::move(out.oriented);
+    }
+    if (oriented_boxes_) pairs_.resize(nodes_.size());
+  }
   triangles_.resize(n);
 #if defined(PPOHDEM_WITH_OPENMP)
 #pragma omp taskloop grainsize(8192) default(shared)
@@ -192,8 +220,10 @@ TriangleTree::TriangleTree(const TriangleMesh& mesh, double coordinate_scale, bo
     const std::uint32_t t = in.order[s];
     triangles_[s] = prepare_triangle(mesh.triangles[t], t);
   }
+#if defined(PPOHDEM_WITH_OPENMP)
+#pragma omp taskwait
+#endif
   if (!oriented_boxes_) return;
-  pairs_.resize(nodes_.size());
   const std::size_t node_count = nodes_.size();
 #if defined(PPOHDEM_WITH_OPENMP)
 #pragma omp taskloop grainsize(8192) default(shared)
@@ -355,25 +385,24 @@ std::uint32_t TriangleTree::build(BuildInput& in, BuildOutput& out, std::uint32_
   }
   bool as_tasks = false;
 #if defined(PPOHDEM_WITH_OPENMP)
-  as_tasks = end - begin >= kTaskMinTriangles && omp_in_parallel();
+  // (A node this large is the first of its output: its parent, as large, split into tasks too.)
+  as_tasks = end - begin >= kTaskMinTriangles && omp_in_parallel() && index == 0;
 #endif
   if (as_tasks) {
-    // The left subtree as a task, the right one here; both then appended in depth-first order,
-    // so the tree is the one the serial build makes.
-    BuildOutput left, right;
-    reserve_nodes(left, middle - begin);
-    reserve_nodes(right, end - middle);
+    // The left subtree as a task, the right one here, each into its own output, and no wait:
+    // place() puts them in depth-first order, so the tree is the one the serial build makes.
+    out.left = std::make_unique<BuildOutput>();
+    out.right = std::make_unique<BuildOutput>();
+    reserve_nodes(*out.left, middle - begin);
+    reserve_nodes(*out.right, end - middle);
+    BuildInput* const input_of_task = &in;
+    BuildOutput* const left = out.left.get();
 #if defined(PPOHDEM_WITH_OPENMP)
-#pragma omp task default(shared)
+#pragma omp task default(none) firstprivate(input_of_task, left, begin, middle, depth)
 #endif
-    build(in, left, begin, middle, depth + 1);
-    build(in, right, middle, end, depth + 1);
-#if defined(PPOHDEM_WITH_OPENMP)
-#pragma omp taskwait
-#endif
-    append_subtree(out, left);
-    node.first = static_cast<std::uint32_t>(out.nodes.size());
-    append_subtree(out, right);
+    build(*input_of_task, *left, begin, middle, depth + 1);
+    build(in, *out.right, middle, end, depth + 1);
+    node.first = 0;  // the right child: set by place()
   } else {
     build(in, out, begin, middle, depth + 1);
     node.first = build(in, out, middle, end, depth + 1);
@@ -393,15 +422,24 @@ void TriangleTree::reserve_nodes(BuildOutput& out, std::size_t triangles) const 
   if (oriented_boxes_) out.oriented.reserve(2 * triangles);
 }
 
-void TriangleTree::append_subtree(BuildOutput& out, const BuildOutput& subtree) const {
-  const auto offset = static_cast<std::uint32_t>(out.nodes.size());
-  for (Node n : subtree.nodes) {
-    if (n.count == 0) n.first += offset;  // an internal node's right child
-    out.nodes.push_back(n);
+void TriangleTree::place(const BuildOutput& part) {
+  const auto offset = static_cast<std::uint32_t>(nodes_.size());
+  if (part.left) {  // one node, then its subtrees; its right child follows the left subtree
+    nodes_.push_back(part.nodes[0]);
+    if (oriented_boxes_) oriented_.push_back(part.oriented[0]);
+    place(*part.left);
+    nodes_[offset].first = static_cast<std::uint32_t>(nodes_.size());
+    if (oriented_boxes_) oriented_[offset].first = nodes_[offset].first;
+    place(*part.right);
+    return;
   }
-  for (OrientedNode n : subtree.oriented) {
+  for (Node n : part.nodes) {
+    if (n.count == 0) n.first += offset;  // an internal node's right child
+    nodes_.push_back(n);
+  }
+  for (OrientedNode n : part.oriented) {
     if (n.count == 0) n.first += offset;
-    out.oriented.push_back(n);
+    oriented_.push_back(n);
   }
 }
 

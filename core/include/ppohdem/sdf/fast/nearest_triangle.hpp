@@ -175,7 +175,7 @@ class TriangleTree {
   struct BuildOutput;
   std::uint32_t build(BuildInput& in, BuildOutput& out, std::uint32_t begin, std::uint32_t end, int depth);
   void reserve_nodes(BuildOutput& out, std::size_t triangles) const;
-  void append_subtree(BuildOutput& out, const BuildOutput& subtree) const;
+  void place(const BuildOutput& part);
   static double box_squared_distance(const double lo[3], const double hi[3], const Vec3& p);
 
   void fit_oriented_box(const std::vector<Triangle>& input, const std::vector<std::uint32_t>& order,
