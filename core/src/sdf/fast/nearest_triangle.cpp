@@ -398,7 +398,7 @@ std::uint32_t TriangleTree::build(BuildInput& in, BuildOutput& out, std::uint32_
     BuildInput* const input_of_task = &in;
     BuildOutput* const left = out.left.get();
 #if defined(PPOHDEM_WITH_OPENMP)
-#pragma omp task default(none) firstprivate(input_of_task, left, begin, middle, depth)
+#pragma omp task default(shared) firstprivate(input_of_task, left, begin, middle, depth)
 #endif
     build(*input_of_task, *left, begin, middle, depth + 1);
     build(in, *out.right, middle, end, depth + 1);
