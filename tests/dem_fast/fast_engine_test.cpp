@@ -311,6 +311,36 @@ TEST(FastEngine, VectorContactsGiveTheBitsOfOneAtATime) {
   }
 }
 
+// A particle none of whose pair slots can touch (its smallest gap at the list build above twice
+// the largest displacement since) is not screened: the same bits as screening every slot, and
+// as the reference engine, with contacts forming and breaking and lists rebuilt.
+TEST(FastEngine, SlotsThatCannotTouchAreSkippedWithTheSameBits) {
+  for (const SceneKind kind : {SceneKind::kHertzFrictionWalls, SceneKind::kLinearFrictionWallsObject}) {
+    SCOPED_TRACE(kind == SceneKind::kHertzFrictionWalls ? "Hertz, walls" : "linear, walls, object");
+    const SimulationSetup setup = scene(kind);
+    fast::FastOptions screen_all;
+    screen_all.skip_apart_slots = false;
+    FastEngine skipping(setup);
+    FastEngine screening(setup, screen_all);
+    ReferenceEngine reference(setup);
+    for (int block = 0; block < 3; ++block) {
+      skipping.advance(100);
+      screening.advance(100);
+      reference.advance(100);
+      const std::string when = "after " + std::to_string(skipping.step_count()) + " steps";
+      expect_same_bits(screening.particles(), skipping.particles(), when + ", skip on/off");
+      expect_same_bits(reference.particles(), skipping.particles(), when + ", reference");
+      EXPECT_EQ(skipping.energies().dissipated, screening.energies().dissipated) << when;
+      EXPECT_EQ(skipping.contact_counts().particle_pairs, screening.contact_counts().particle_pairs) << when;
+    }
+    // Not vacuous: slots were skipped, none when told not to, and contacts formed.
+    EXPECT_GT(skipping.skipped_screens(), 1000u);
+    EXPECT_EQ(screening.skipped_screens(), 0u);
+    EXPECT_GT(skipping.contact_counts().particle_pairs, 50u);
+    EXPECT_GT(skipping.neighbour_list_builds(), 5);
+  }
+}
+
 // The kernel's thread ranges: cut by estimated work, then corrected by the ranges' measured
 // times. Without neighbour lists every particle weighs the same (8), so the cuts are exact
 // fractions of n: even at first; with range 0 measured twice as slow as range 1, the shares

@@ -189,6 +189,7 @@ struct FastEngine::Impl {
   double skin_fraction = 0.2;  ///< FastOptions::skin_fraction (insertion may raise R_max)
   double r_max = 0.0;     ///< [m], over the whole system
   bool skip_far_objects = true;  ///< FastOptions::skip_far_objects
+  bool skip_apart_slots = true;  ///< FastOptions::skip_apart_slots
   long steps = 0;
   long builds = 0;
   /// The cumulative energy terms, summed at every evaluation (add_rates) [J].
@@ -317,6 +318,15 @@ struct FastEngine::Impl {
   /// R + skin / 2 > R (no contact) and > 0 (not crossed). The margin skin / 2 covers the
   /// rounding of the distance many times over.
   void mark_near_boundaries();
+
+  /// FastState::screen_gap at a list build (one rank; else left empty), and the largest
+  /// displacement since the build back to 0. A pair whose gap at the build exceeds twice the
+  /// largest displacement of any particle since cannot touch now, nor at any evaluation since
+  /// (that largest one is a running maximum), so it holds no spring: its slot needs no
+  /// screening. The margin (1e-9 of a list's reach) covers the rounding of the gaps, the
+  /// displacement and the screen's own test many times over.
+  void mark_screen_gaps();
+  double drift_since_build = 0.0;  ///< max over the steps since the build of max |x - x_build|^2 [m^2]
 
   /// The cells of a cell sort: its grid, start[c] the first (sorted) index in cell c
   /// (start[c + 1] the end), and order[k] the index before the sort of the particle now at k.

@@ -29,6 +29,7 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   for (auto& p : setup.particles) m.r_max = std::max(m.r_max, p.radius);
   m.skin = options.skin_fraction * m.r_max;
   m.skip_far_objects = options.skip_far_objects;
+  m.skip_apart_slots = options.skip_apart_slots;
   m.skin_fraction = options.skin_fraction;
   m.balance = options.balance;
   if (!(options.balance_threshold >= 1.0)) {
@@ -186,6 +187,12 @@ std::optional<LargestOverlap> FastEngine::largest_overlap() const {
 }
 
 long FastEngine::neighbour_list_builds() const { return impl_->builds; }
+
+std::size_t FastEngine::skipped_screens() const {
+  std::size_t skipped = 0;
+  for (const ThreadOutput& range : impl_->s.threads) skipped += range.skipped_screens;
+  return skipped;
+}
 double FastEngine::skin() const { return impl_->skin; }
 std::size_t FastEngine::neighbour_slots() const { return impl_->s.partner.size(); }
 const ThreadSpeeds& FastEngine::thread_speeds() const { return impl_->s.thread_speeds; }

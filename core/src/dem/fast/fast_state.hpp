@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -100,6 +101,7 @@ struct alignas(64) ThreadOutput {
   std::vector<std::uint32_t> free_springs;
   PairBatch batch;  ///< the current chunk's pairs (frictional kernels; reused storage)
   std::vector<FeatureContact> touching;  ///< one boundary's contacts (force_boundaries.hpp; reused)
+  std::size_t skipped_screens = 0;  ///< particles whose slots this range did not screen (screen_gap)
   /// The exact sums of this range's particles' energy rates in this evaluation (kEnergy):
   /// dissipated [J], boundary work [J], boundary power [W] (docs/dem.md "Energy book-keeping").
   std::array<ExactSum, 3> rates;
@@ -160,6 +162,14 @@ struct FastState {
   /// moves, it is not a plane wall, or it is a fixed wall within R + skin at the build); bits
   /// exist for the first 32 boundaries, the others are always evaluated. Owned particles only.
   std::vector<std::uint32_t> near_boundaries;
+  /// One rank, frictional lists: the smallest gap |x_i - x_j| - (R_i + R_j) [m] over particle i's
+  /// upper slots at the last list build, -inf if one of them held a spring (then, or no slot:
+  /// +inf). Not carried by the sort: made afresh after every build (mark_screen_gaps).
+  std::vector<double> screen_gap;
+  /// The pair pass lists none of particle i's upper slots while screen_gap[i] exceeds this
+  /// [m]: twice the largest displacement since the build, plus a margin (step.cpp); +inf, no
+  /// skipping, outside a step's evaluation (docs/performance.md "Dilute lists").
+  double screen_skip_bound = std::numeric_limits<double>::infinity();
   /// Per-particle energy terms of the last evaluation (energies tracked; zeros otherwise), one
   /// 32-byte record each. A step sums the three rates (dissipated, work, power: zero for most
   /// particles, which an exact sum skips); the elastic energy is summed only when the energies

@@ -118,10 +118,17 @@ template <class K>
 inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::size_t chunk_end, PairEntry* entries,
                                       std::uint32_t* entries_of, [[maybe_unused]] double* ended) {
   FastState& s = pass.s;
+  // A particle whose upper slots cannot touch (screen_gap, one rank) lists none of them.
+  const double* const gap = s.screen_gap.size() == s.owned ? s.screen_gap.data() : nullptr;
+  const double skip_bound = s.screen_skip_bound;
   std::uint32_t count = 0;  // entries listed
   for (std::size_t i = chunk; i < chunk_end; ++i) {
     entries_of[i - chunk] = count;
     if constexpr (K::kEnergy) ended[i - chunk] = 0.0;
+    if (gap != nullptr && gap[i] > skip_bound) {
+      ++pass.out.skipped_screens;
+      continue;
+    }
     const Vec3 xi = s.x[i];
     const double ri = s.radius[i];
     auto list = [&](std::uint32_t slot, bool upper) {

@@ -1,5 +1,8 @@
 // Verlet neighbour lists (cell search within R_i + R_j + skin), the mirror links between the
 // two sides of a pair, and the boundaries near each particle.
+#include <algorithm>
+#include <limits>
+
 #include "engine_impl.hpp"
 
 namespace ppohdem::dem::fast {
@@ -21,8 +24,32 @@ void FastEngine::Impl::build_lists() {
   search_neighbours(distributed() ? nullptr : &sorted);
   install_history(h, sorted.order);
   mark_near_boundaries();
+  mark_screen_gaps();
   s.split_stale = true;  // the kernel's ranges are cut afresh for the new order
   add_lost_energy();
+}
+
+void FastEngine::Impl::mark_screen_gaps() {
+  drift_since_build = 0.0;
+  const std::size_t n = s.owned;
+  if (!skip_apart_slots || distributed() || s.spring_of.size() != s.partner.size() || s.upper_first.size() != n) {
+    s.screen_gap.clear();  // (several ranks: a ghost's displacement is another rank's)
+    return;
+  }
+  s.screen_gap.resize(n);
+  PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
+  for (std::size_t i = 0; i < n; ++i) {
+    double gap = std::numeric_limits<double>::infinity();
+    for (std::uint32_t slot = s.upper_first[i]; slot < s.first[i + 1]; ++slot) {
+      if (s.spring_of[slot] != kNoSpring) {
+        gap = -std::numeric_limits<double>::infinity();
+        break;
+      }
+      const std::uint32_t j = s.partner[slot];
+      gap = std::min(gap, (s.x[i] - s.x[j]).norm() - (s.radius[i] + s.radius[j]));
+    }
+    s.screen_gap[i] = gap;
+  }
 }
 
 void FastEngine::Impl::mark_near_boundaries() {

@@ -1,6 +1,9 @@
 // One time step of the fast engine: velocity Verlet (reference_engine.cpp has the formulas),
 // list builds when a particle has moved half the skin, the force evaluation.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "engine_impl.hpp"
 #include "step_record.hpp"
@@ -22,6 +25,7 @@ void FastEngine::Impl::evaluate_forces(double history_dt, bool closing_kick, Hal
   const double time = static_cast<double>(steps) * s.dt;
   update_reach(time);
   kernel->evaluate(s, time, history_dt, halo);
+  s.screen_skip_bound = std::numeric_limits<double>::infinity();  // set by step() for its evaluation only
   if (halo != nullptr) halo->complete();  // done by the kernel (a no-op then)
   energies_cache.reset();
   restored_elastic.reset();
@@ -119,10 +123,13 @@ void FastEngine::Impl::step() {
   }
   drift_over_ranks.reset();
   if (build) {
-    build_lists();
-  } else if (!in_flight) {
-    refresh_ghosts(cached);
+    build_lists();  // (drift_since_build back to 0)
+  } else {
+    drift_since_build = std::max(drift_since_build, largest);
+    if (!in_flight) refresh_ghosts(cached);
   }
+  // Particles whose slots cannot touch skip their screening (mark_screen_gaps, one rank).
+  if (!s.screen_gap.empty()) s.screen_skip_bound = 2.0 * std::sqrt(drift_since_build) + 1e-9 * (2.0 * r_max + skin);
   evaluate_forces(s.dt, /*closing_kick=*/true, in_flight.get());
   out_valid = false;
 }

@@ -78,6 +78,11 @@ struct FastOptions {
   /// Skip the particles outside an object's reach at each evaluation (Boundary::reach; the
   /// same bits as evaluating them all, which false does: the tests' way to check it).
   bool skip_far_objects = true;
+  /// One rank: list none of a particle's pair slots while none of them can touch (its
+  /// smallest gap at the list build exceeds twice the largest displacement since; the same
+  /// bits as screening them all, which false does: the tests' way to check it; docs/performance.md
+  /// "Dilute lists").
+  bool skip_apart_slots = true;
   /// Load balance over the ranks (docs/dem.md "Load balance"; scene `[parallel] balance`):
   /// kBisection cuts the domain by recursive coordinate bisection of the particle count at the
   /// start and re-cuts it at a list build when the most loaded rank owns more than
@@ -187,6 +192,9 @@ class FastEngine final : public DemEngine {
   /// unless the halo layer is wrong (a test's check; O(owned x ghosts)).
   std::size_t interior_near_ghosts() const;
   long neighbour_list_builds() const;  ///< number of list builds so far (diagnostics)
+  /// Particle evaluations whose pair slots were not screened (skip_apart_slots; diagnostics,
+  /// summed over the kernel's thread ranges since they were last made).
+  std::size_t skipped_screens() const;
   double skin() const;                 ///< [m]
   std::size_t neighbour_slots() const; ///< entries of the full list (diagnostics)
   /// This rank's force-kernel threads' speeds against each other since construction (no
