@@ -163,8 +163,8 @@ struct FastState {
   /// exist for the first 32 boundaries, the others are always evaluated. Owned particles only.
   std::vector<std::uint32_t> near_boundaries;
   /// One rank, frictional lists: the smallest gap |x_i - x_j| - (R_i + R_j) [m] over particle i's
-  /// upper slots at the last list build, -inf if one of them held a spring (then, or no slot:
-  /// +inf). Not carried by the sort: made afresh after every build (mark_screen_gaps).
+  /// upper slots at the last list build; -inf if one of them held a spring then, +inf if it
+  /// has none. Not carried by the sort: made afresh after every build (mark_screen_gaps).
   std::vector<double> screen_gap;
   /// The pair pass lists none of particle i's upper slots while screen_gap[i] exceeds this
   /// [m]: twice the largest displacement since the build, plus a margin (step.cpp); +inf, no
