@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -20,6 +22,10 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#ifdef PPOHDEM_WITH_OPENMP
+#include <omp.h>
+#endif
 
 #include "ppohdem/dem/particle_csv.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
@@ -51,8 +57,10 @@ std::vector<double> doubles_of_every_kind(std::size_t count) {
   return v;
 }
 
+// Enough particles for several rounds of the threads' batches (particle_csv.cpp), written
+// on 1, 2 and 3 threads.
 TEST(ParticleIo, WriterLinesAreThoseOfPrintfG17) {
-  const std::vector<double> values = doubles_of_every_kind(20000);
+  const std::vector<double> values = doubles_of_every_kind(150000);
   Particles particles;
   std::string expected = "# provenance\nid,x,y,z,vx,vy,vz,wx,wy,wz,radius\n";
   for (std::size_t k = 0; k + 10 <= values.size(); k += 10) {
@@ -70,8 +78,13 @@ TEST(ParticleIo, WriterLinesAreThoseOfPrintfG17) {
     expected += line;
   }
   const fs::path file = ppohdem::test::scratch_dir() / "particle_io_writer.csv";
-  write_particles_csv(file, particles, "provenance");
-  EXPECT_EQ(text_of(file), expected);
+  for (const int threads : {1, 2, 3}) {
+#ifdef PPOHDEM_WITH_OPENMP
+    omp_set_num_threads(threads);
+#endif
+    write_particles_csv(file, particles, "provenance");
+    EXPECT_EQ(text_of(file), expected) << threads << " thread(s)";
+  }
 }
 
 /// What the reader must decide for a field: std::stod's value if it reads the whole field (the
@@ -129,6 +142,119 @@ TEST(ParticleIo, ReaderDecidesEveryFieldAsStod) {
     std::snprintf(text, sizeof text, formats[rng() % 5], v);
     expect_same_decision(text);
   }
+}
+
+/// The parse of a file's text cut into `pieces`: each particle's id and value bits, or the
+/// error's message.
+std::string parse_outcome(const std::string& text, std::size_t pieces) {
+  try {
+    std::string out;
+    for (const Particle& q : detail::parse_particles_csv(text, "pieces.csv", {}, pieces)) {
+      out += std::to_string(q.id);
+      for (const double v : {q.position.x(), q.position.y(), q.position.z(), q.velocity.x(), q.velocity.y(),
+                             q.velocity.z(), q.angular_velocity.x(), q.angular_velocity.y(), q.angular_velocity.z(),
+                             q.radius}) {
+        out += ' ';
+        out += std::to_string(std::bit_cast<std::uint64_t>(v));
+      }
+      out += "\n";
+    }
+    return out;
+  } catch (const InputError& e) {
+    return std::string("error: ") + e.what();
+  }
+}
+
+// Files of every shape against a model of the format: comments and blank lines anywhere,
+// blanks around fields, CRLF, no final newline, ids out of order or repeated, fields stod
+// refuses, short and long lines. The model: each field as stod decides it (stod_decision),
+// the error at the first bad line in file order; and any number of pieces (the threads'
+// parse) gives what one piece gives, message for message.
+RC_GTEST_PROP(ParticleIo, AnyPiecesReadAsTheModelSays, ()) {
+  std::mt19937_64 rng(*rc::gen::arbitrary<std::uint64_t>());
+  const auto lines = *rc::gen::inRange<std::size_t>(0, 60);
+  const double bad_rate = *rc::gen::element(0.0, 0.0, 0.002, 0.02);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto chance = [&](double p) { return unit(rng) < p; };
+  const char* const formats[] = {"%.17g", "%.6e", "%a", "%.3f", "%g"};
+  auto number = [&] {
+    if (chance(bad_rate)) {
+      const char* const bad[] = {"", "abc", "nan", "inf", "1e-400", "1.5x", "1e999", "--1"};
+      return std::string(bad[rng() % 8]);
+    }
+    const char* const odd[] = {"0", "-0", " 1.5", "1.5 ", "+2", "\t.5", "0e5", "5."};
+    if (chance(0.1)) return std::string(odd[rng() % 8]);
+    char text[64];
+    std::snprintf(text, sizeof text, formats[rng() % 5], (unit(rng) - 0.5) * std::pow(10.0, static_cast<int>(rng() % 40) - 20));
+    return std::string(text);
+  };
+  const std::string eol = chance(0.3) ? "\r\n" : "\n";
+  std::string text;
+  std::size_t line = 0;
+  std::size_t first_bad = 0;  // the model's first bad line (0: none)
+  auto add = [&](const std::string& l) {
+    text += l + eol;
+    ++line;
+  };
+  for (int k = static_cast<int>(rng() % 3); k > 0; --k) add(chance(0.5) ? "# comment" : " ");
+  add("id,x,y,z,vx,vy,vz,wx,wy,wz,radius");
+  std::vector<std::int64_t> ids;
+  std::vector<std::array<double, 10>> values;
+  for (std::size_t n = 0; n < lines; ++n) {
+    if (chance(0.1)) {
+      add(chance(0.5) ? "# comment, 1, 2" : "");
+      continue;
+    }
+    std::int64_t id = static_cast<std::int64_t>(ids.size()) + 1;
+    if (chance(0.1)) id = -static_cast<std::int64_t>(rng() % 1000) - 1;  // out of order
+    if (!ids.empty() && chance(bad_rate * 5)) id = ids[rng() % ids.size()];  // repeated
+    std::vector<std::string> fields{std::to_string(id)};
+    for (int c = 0; c < 9; ++c) fields.push_back(number());
+    fields.push_back(chance(bad_rate) ? "-1e-3" : "1e-3");
+    if (chance(bad_rate)) fields.pop_back();
+    if (chance(bad_rate)) fields.push_back("1");
+    std::string l;
+    for (std::size_t c = 0; c < fields.size(); ++c) l += (c > 0 ? "," : "") + fields[c];
+    add(l);
+    if (first_bad != 0) continue;
+    // The model's decision of the line.
+    bool good = fields.size() == 11 && std::find(ids.begin(), ids.end(), id) == ids.end();
+    std::array<double, 10> v{};
+    for (std::size_t c = 1; good && c < 11; ++c) {
+      const auto d = stod_decision(fields[c]);
+      good = d.has_value();
+      if (good) v[c - 1] = *d;
+    }
+    good = good && v[9] > 0.0;
+    if (!good) {
+      first_bad = line;
+      continue;
+    }
+    ids.push_back(id);
+    values.push_back(v);
+  }
+  if (!text.empty() && chance(0.3)) text.resize(text.size() - eol.size());  // no final newline
+  const std::string one = parse_outcome(text, 1);
+  if (first_bad != 0) {
+    try {
+      detail::parse_particles_csv(text, "pieces.csv", {}, 1);
+      RC_FAIL("no error, expected one at line " + std::to_string(first_bad));
+    } catch (const InputError& e) {
+      RC_ASSERT(e.line() == first_bad);
+    }
+  } else {
+    std::string want;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      want += std::to_string(ids[i]);
+      for (const double v : values[i]) {
+        want += ' ';
+        want += std::to_string(std::bit_cast<std::uint64_t>(v));
+      }
+      want += "\n";
+    }
+    RC_ASSERT(one == want);
+  }
+  for (const std::size_t pieces : {2u, 3u, 5u, 8u, 61u}) RC_ASSERT(parse_outcome(text, pieces) == one);
 }
 
 /// All pairs, the definition (simulation_setup.hpp).

@@ -4,14 +4,18 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <optional>
 #include <string_view>
-#include <unordered_set>
 #include <vector>
 
 #include "ppohdem/error.hpp"
 #include "ppohdem/io/block_file.hpp"
+
+#ifdef PPOHDEM_WITH_OPENMP
+#include <omp.h>
+#endif
 
 namespace ppohdem::dem {
 namespace {
@@ -61,99 +65,276 @@ char* put_g17(char* at, char* end, double v) {
   return std::to_chars(at, end, v, std::chars_format::general, 17).ptr;
 }
 
+// A line of eleven plain fields (no blanks, no material column, each number read whole by
+// from_chars into a normal number or an exact zero, a positive radius): its particle, taken
+// without splitting the line first. Anything else returns false and takes parse_line's path,
+// which decides it as before (the same value bits: quick_number reads the same characters).
+bool plain_line(std::string_view line, Particle& p) {
+  const char* at = line.data();
+  const char* const end = line.data() + line.size();
+  const auto [id_end, id_ec] = std::from_chars(at, end, p.id);
+  if (id_ec != std::errc() || id_end == end || *id_end != ',') return false;
+  at = id_end + 1;
+  double v[kColumns - 1];
+  for (std::size_t c = 0; c < kColumns - 1; ++c) {
+    const auto [ptr, ec] = std::from_chars(at, end, v[c]);
+    const bool last = c + 2 == kColumns;  // the radius ends the line
+    if (ec != std::errc() || (last ? ptr != end : (ptr == end || *ptr != ','))) return false;
+    if (!std::isnormal(v[c])) {
+      if (v[c] != 0.0) return false;
+      for (const char* d = at; d < ptr && *d != 'e' && *d != 'E'; ++d) {
+        if (*d >= '1' && *d <= '9') return false;  // an underflow to zero: stod's range error
+      }
+    }
+    at = ptr + 1;
+  }
+  if (!(v[9] > 0.0)) return false;
+  p.position = Vec3(v[0], v[1], v[2]);
+  p.velocity = Vec3(v[3], v[4], v[5]);
+  p.angular_velocity = Vec3(v[6], v[7], v[8]);
+  p.radius = v[9];
+  return true;
+}
+
+// One line's particle, or the message of what is wrong with it (empty: a particle).
+std::string parse_line(std::string_view line, bool with_material, const std::vector<std::string>& material_names,
+                       std::vector<std::string_view>& fields, Particle& p) {
+  if (!with_material && plain_line(line, p)) return {};
+  split(line, fields);
+  const std::size_t columns = with_material ? kColumns + 1 : kColumns;
+  if (fields.size() != columns) {
+    return "expected " + std::to_string(columns) + " comma-separated values, found " + std::to_string(fields.size());
+  }
+  {
+    const auto f = fields[0];
+    const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), p.id);
+    if (ec != std::errc() || ptr != f.data() + f.size()) return "column 'id': expected an integer, found '" + std::string(f) + "'";
+  }
+  double v[kColumns - 1];
+  for (std::size_t c = 1; c < kColumns; ++c) {
+    if (const auto quick = quick_number(fields[c])) {
+      v[c - 1] = *quick;
+      continue;
+    }
+    const std::string field(fields[c]);
+    std::size_t used = 0;
+    bool ok = !field.empty();
+    try {
+      v[c - 1] = std::stod(field, &used);  // accepts "nan"/"inf": rejected below
+    } catch (const std::exception&) {
+      ok = false;
+    }
+    if (!ok || used != field.size()) return "column " + std::to_string(c + 1) + ": expected a number, found '" + field + "'";
+    if (!std::isfinite(v[c - 1])) {
+      return "column " + std::to_string(c + 1) + ": expected a finite number, found '" + field + "'";
+    }
+  }
+  p.position = Vec3(v[0], v[1], v[2]);
+  p.velocity = Vec3(v[3], v[4], v[5]);
+  p.angular_velocity = Vec3(v[6], v[7], v[8]);
+  p.radius = v[9];
+  if (!(p.radius > 0.0)) return "radius must be > 0 m, found " + std::string(fields[10]);
+  if (with_material) {
+    const std::string_view m = fields[kColumns];
+    const auto it = std::find(material_names.begin(), material_names.end(), m);
+    if (it == material_names.end()) {
+      std::string known;
+      for (const std::string& n : material_names) known += (known.empty() ? "" : ", ") + n;
+      return "column 'material': unknown material '" + std::string(m) + "' (the scene has: " + known + ")";
+    }
+    p.material = static_cast<std::uint16_t>(it - material_names.begin());
+  }
+  return {};
+}
+
+/// The lines of text[begin, end) (begin at a line's start): std::getline's lines, i.e. split at
+/// '\n', a last piece without '\n' a line if not empty. Calls visit(line) until it returns false.
+template <class Visit>
+void for_each_line(std::string_view text, std::size_t begin, std::size_t end, Visit&& visit) {
+  while (begin < end) {
+    const void* nl = std::memchr(text.data() + begin, '\n', end - begin);
+    const std::size_t stop = nl != nullptr ? static_cast<std::size_t>(static_cast<const char*>(nl) - text.data()) : end;
+    if (!visit(text.substr(begin, stop - begin))) return;
+    begin = stop + 1;
+  }
+}
+
+/// One piece of the data lines: its particles, its line count, and its first bad line (within
+/// the piece, 1-based; 0: none) with what is wrong there.
+struct Piece {
+  Particles particles;
+  std::size_t lines = 0;
+  std::size_t error_line = 0;
+  std::string error;
+};
+
+/// `room`: the bytes whose lines to reserve particles for (the first piece: all the pieces',
+/// which are then appended to it without growing it).
+Piece parse_piece(std::string_view text, std::size_t begin, std::size_t end, std::size_t room, bool with_material,
+                  const std::vector<std::string>& material_names) {
+  Piece piece;
+  // Room for lines as long as the piece's first 64 on average (a tenth more), at most as many
+  // as 22-byte lines (the shortest): growing would copy every particle again.
+  std::size_t sampled = 0;
+  std::size_t sample_end = begin;
+  for_each_line(text, begin, end, [&](std::string_view raw) {
+    sample_end += raw.size() + 1;
+    return ++sampled < 64;
+  });
+  const std::size_t shortest = room / (2 * kColumns) + 1;
+  const double per_line =
+      static_cast<double>(std::min(sample_end, end) - begin) / static_cast<double>(std::max<std::size_t>(sampled, 1));
+  const auto expected = static_cast<std::size_t>(1.1 * static_cast<double>(room) / std::max(per_line, 1.0)) + 64;
+  piece.particles.reserve(std::min(shortest, expected));
+  std::vector<std::string_view> fields;
+  for_each_line(text, begin, end, [&](std::string_view raw) {
+    ++piece.lines;
+    const std::string_view line = trim(raw);
+    if (line.empty() || line.front() == '#') return true;
+    Particle p;
+    std::string error = parse_line(line, with_material, material_names, fields, p);
+    if (!error.empty()) {
+      piece.error_line = piece.lines;
+      piece.error = std::move(error);
+      return false;
+    }
+    piece.particles.push_back(p);
+    return true;
+  });
+  return piece;
+}
+
 }  // namespace
+
+namespace detail {
+
+Particles parse_particles_csv(std::string_view text, const std::string& name,
+                              const std::vector<std::string>& material_names, std::size_t pieces) {
+  // The header: the first line that is neither blank nor a comment.
+  std::size_t line_no = 0;
+  std::size_t data = text.size();  // where the data lines start
+  bool header_seen = false;
+  bool with_material = false;
+  std::size_t at = 0;
+  for_each_line(text, 0, text.size(), [&](std::string_view raw) {
+    ++line_no;
+    at += raw.size() + 1;
+    const std::string_view line = trim(raw);
+    if (line.empty() || line.front() == '#') return true;
+    std::string compact;
+    for (char c : line) if (c != ' ' && c != '\t') compact += c;
+    with_material = compact == kMaterialHeader;
+    if (compact != kHeader && !with_material) {
+      throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "' (or with ',material'), found '" +
+                                          std::string(line) + "'");
+    }
+    if (with_material && material_names.empty()) {
+      throw InputError(name, line_no, "a 'material' column needs a scene whose materials have names "
+                                      "([material] name = ... or [[material]] entries)");
+    }
+    header_seen = true;
+    data = std::min(at, text.size());
+    return false;
+  });
+  if (!header_seen) throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "', found end of file");
+  // The data lines in pieces cut after a '\n', parsed at the same time; a piece's lines are
+  // numbered once the pieces before it are counted.
+  pieces = std::max<std::size_t>(1, pieces);
+  std::vector<std::size_t> cut(pieces + 1, text.size());
+  cut[0] = data;
+  for (std::size_t k = 1; k < pieces; ++k) {
+    std::size_t c = std::max(cut[k - 1], data + (text.size() - data) / pieces * k);
+    if (c > cut[k - 1]) {  // to the start of the next line
+      const void* nl = std::memchr(text.data() + c - 1, '\n', text.size() - (c - 1));
+      c = nl != nullptr ? static_cast<std::size_t>(static_cast<const char*>(nl) - text.data()) + 1 : text.size();
+    }
+    cut[k] = c;
+  }
+  std::vector<Piece> parsed(pieces);
+#ifdef PPOHDEM_WITH_OPENMP
+#pragma omp parallel for schedule(static, 1) num_threads(static_cast<int>(pieces)) if (pieces > 1)
+#endif
+  for (std::size_t k = 0; k < pieces; ++k) {
+    const std::size_t room = k == 0 ? text.size() - data : cut[k + 1] - cut[k];
+    parsed[k] = parse_piece(text, cut[k], cut[k + 1], room, with_material, material_names);
+  }
+  // The first bad line in file order: a piece's error, or a repeated id (its second line).
+  std::vector<std::size_t> first_line(pieces + 1, line_no);  // the line before each piece
+  std::size_t error_line = 0;
+  const std::string* error = nullptr;
+  for (std::size_t k = 0; k < pieces; ++k) {
+    first_line[k + 1] = first_line[k] + parsed[k].lines;
+    if (parsed[k].error_line != 0) {
+      error_line = first_line[k] + parsed[k].error_line;
+      error = &parsed[k].error;
+      break;
+    }
+  }
+  // The pieces' particles after the first's (whose room holds them all unless its lines are
+  // shorter than the others').
+  std::size_t total = 0;
+  for (const Piece& piece : parsed) total += piece.particles.size();
+  Particles particles = std::move(parsed[0].particles);
+  particles.reserve(total);
+  for (std::size_t k = 1; k < pieces; ++k) {
+    particles.insert(particles.end(), parsed[k].particles.begin(), parsed[k].particles.end());
+    Particles().swap(parsed[k].particles);
+  }
+  // Repeated ids: none if they increase (most files); else sorted, the earliest second line.
+  bool increasing = true;
+  for (std::size_t i = 1; i < particles.size() && increasing; ++i) increasing = particles[i - 1].id < particles[i].id;
+  if (!increasing) {
+    std::vector<std::pair<std::int64_t, std::size_t>> order(particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i) order[i] = {particles[i].id, i};
+    std::sort(order.begin(), order.end());
+    std::size_t repeat = particles.size();  // the index of the earliest repeat
+    for (std::size_t i = 1; i < order.size(); ++i) {
+      if (order[i].first == order[i - 1].first) {  // an id seen before, at a smaller index
+        repeat = std::min(repeat, order[i].second);
+      }
+    }
+    if (repeat < particles.size()) {
+      // Its line: counted again (an error's path), every data line before it a particle or
+      // blank or a comment.
+      std::size_t line = line_no;
+      std::size_t seen = 0;
+      for_each_line(text, data, text.size(), [&](std::string_view raw) {
+        ++line;
+        const std::string_view l = trim(raw);
+        return l.empty() || l.front() == '#' || seen++ < repeat;
+      });
+      if (error == nullptr || line < error_line) {
+        throw InputError(name, line, "id " + std::to_string(particles[repeat].id) + " appears twice");
+      }
+    }
+  }
+  if (error != nullptr) throw InputError(name, error_line, *error);
+  return particles;
+}
+
+}  // namespace detail
 
 Particles read_particles_csv(const std::filesystem::path& file,
                              const std::vector<std::string>& material_names) {
-  std::ifstream in(file);
   const std::string name = file.string();
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(name, 0, "cannot open particle file");
-  Particles particles;
-  std::unordered_set<std::int64_t> ids;
-  std::string raw;
-  std::vector<std::string_view> fields;
-  std::size_t line_no = 0;
-  bool header_seen = false;
-  bool with_material = false;
-  while (std::getline(in, raw)) {
-    ++line_no;
-    const std::string_view line = trim(raw);
-    if (line.empty() || line.front() == '#') continue;
-    if (!header_seen) {
-      std::string compact;
-      for (char c : line) if (c != ' ' && c != '\t') compact += c;
-      with_material = compact == kMaterialHeader;
-      if (compact != kHeader && !with_material) {
-        throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "' (or with ',material'), found '" +
-                                            std::string(line) + "'");
-      }
-      if (with_material && material_names.empty()) {
-        throw InputError(name, line_no, "a 'material' column needs a scene whose materials have names "
-                                        "([material] name = ... or [[material]] entries)");
-      }
-      header_seen = true;
-      continue;
-    }
-    split(line, fields);
-    const std::size_t columns = with_material ? kColumns + 1 : kColumns;
-    if (fields.size() != columns) {
-      throw InputError(name, line_no, "expected " + std::to_string(columns) + " comma-separated values, found " +
-                                          std::to_string(fields.size()));
-    }
-    Particle p;
-    {
-      const auto f = fields[0];
-      const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), p.id);
-      if (ec != std::errc() || ptr != f.data() + f.size()) {
-        throw InputError(name, line_no, "column 'id': expected an integer, found '" + std::string(f) + "'");
-      }
-    }
-    double v[kColumns - 1];
-    for (std::size_t c = 1; c < kColumns; ++c) {
-      if (const auto quick = quick_number(fields[c])) {
-        v[c - 1] = *quick;
-        continue;
-      }
-      const std::string field(fields[c]);
-      std::size_t used = 0;
-      bool ok = !field.empty();
-      try {
-        v[c - 1] = std::stod(field, &used);  // accepts "nan"/"inf": rejected below
-      } catch (const std::exception&) {
-        ok = false;
-      }
-      if (!ok || used != field.size()) {
-        throw InputError(name, line_no, "column " + std::to_string(c + 1) + ": expected a number, found '" + field + "'");
-      }
-      if (!std::isfinite(v[c - 1])) {
-        throw InputError(name, line_no, "column " + std::to_string(c + 1) + ": expected a finite number, found '" + field + "'");
-      }
-    }
-    p.position = Vec3(v[0], v[1], v[2]);
-    p.velocity = Vec3(v[3], v[4], v[5]);
-    p.angular_velocity = Vec3(v[6], v[7], v[8]);
-    p.radius = v[9];
-    if (!(p.radius > 0.0)) {
-      throw InputError(name, line_no, "radius must be > 0 m, found " + std::string(fields[10]));
-    }
-    if (with_material) {
-      const std::string_view m = fields[kColumns];
-      const auto it = std::find(material_names.begin(), material_names.end(), m);
-      if (it == material_names.end()) {
-        std::string known;
-        for (const std::string& n : material_names) known += (known.empty() ? "" : ", ") + n;
-        throw InputError(name, line_no, "column 'material': unknown material '" + std::string(m) + "' (the scene has: " +
-                                            known + ")");
-      }
-      p.material = static_cast<std::uint16_t>(it - material_names.begin());
-    }
-    if (!ids.insert(p.id).second) {
-      throw InputError(name, line_no, "id " + std::to_string(p.id) + " appears twice");
-    }
-    particles.push_back(p);
+  // The whole file at once, then its lines in pieces on the threads (docs/performance.md
+  // "Reading and writing particles").
+  std::string text;
+  std::error_code size_error;
+  const auto size = std::filesystem::file_size(file, size_error);
+  if (!size_error) {
+    text.resize(static_cast<std::size_t>(size));
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<std::size_t>(in.gcount()));  // a file that shrank meanwhile
   }
-  if (!header_seen) throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "', found end of file");
-  return particles;
+  std::size_t threads = 1;
+#ifdef PPOHDEM_WITH_OPENMP
+  threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+#endif
+  constexpr std::size_t kPieceBytes = std::size_t{1} << 20;  // a thread's start-up against its share
+  return detail::parse_particles_csv(text, name, material_names, std::min(threads, text.size() / kPieceBytes + 1));
 }
 
 void write_particles_csv(const std::filesystem::path& file, const Particles& particles,
@@ -161,32 +342,51 @@ void write_particles_csv(const std::filesystem::path& file, const Particles& par
   // Blocks past the page cache (io/block_file.hpp; docs/performance.md "I/O: particle files").
   BlockFileWriter writer(file);
   const bool with_material = material_names.size() > 1;
-  std::string block;  // handed to the writer 1 MiB at a time
-  block.reserve((1u << 20) + 1024);
-  if (!header_comment.empty()) block += "# " + header_comment + '\n';
-  block += with_material ? kMaterialHeader : kHeader;
-  block += '\n';
-  char buf[512];
-  for (const Particle& p : particles) {
-    char* at = std::to_chars(buf, buf + 32, static_cast<long long>(p.id)).ptr;
-    for (const double v : {p.position.x(), p.position.y(), p.position.z(), p.velocity.x(), p.velocity.y(),
-                           p.velocity.z(), p.angular_velocity.x(), p.angular_velocity.y(), p.angular_velocity.z(),
-                           p.radius}) {
-      *at++ = ',';
-      at = put_g17(at, buf + sizeof buf, v);
-    }
-    block.append(buf, at);
-    if (with_material) {
-      block += ',';
-      block += material_names.at(p.material);
-    }
-    block += '\n';
-    if (block.size() >= (1u << 20)) {
-      writer.write(block.data(), block.size());
-      block.clear();
-    }
+  std::string header;
+  if (!header_comment.empty()) header += "# " + header_comment + '\n';
+  header += with_material ? kMaterialHeader : kHeader;
+  header += '\n';
+  writer.write(header.data(), header.size());
+  // Rounds of one batch per thread, formatted at the same time and written in order: the
+  // bytes of one thread's loop (docs/performance.md "I/O: particle files").
+  constexpr std::size_t kBatch = 8192;  // particles, about 0.8 MiB of text
+  const std::size_t n = particles.size();
+  std::size_t threads = 1;
+#ifdef PPOHDEM_WITH_OPENMP
+  threads = std::min(static_cast<std::size_t>(std::max(1, omp_get_max_threads())), n / kBatch + 1);
+#endif
+  if (with_material) {  // checked before the threads, which must not throw
+    for (const Particle& p : particles) (void)material_names.at(p.material);
   }
-  writer.write(block.data(), block.size());
+  std::vector<std::string> texts(threads);
+  for (std::size_t round = 0; round < n; round += kBatch * threads) {
+#ifdef PPOHDEM_WITH_OPENMP
+#pragma omp parallel for schedule(static, 1) num_threads(static_cast<int>(threads)) if (threads > 1)
+#endif
+    for (std::size_t t = 0; t < threads; ++t) {
+      std::string& text = texts[t];
+      text.clear();
+      char buf[512];
+      const std::size_t last = std::min(n, round + (t + 1) * kBatch);
+      for (std::size_t i = round + t * kBatch; i < last; ++i) {
+        const Particle& p = particles[i];
+        char* at = std::to_chars(buf, buf + 32, static_cast<long long>(p.id)).ptr;
+        for (const double v : {p.position.x(), p.position.y(), p.position.z(), p.velocity.x(), p.velocity.y(),
+                               p.velocity.z(), p.angular_velocity.x(), p.angular_velocity.y(), p.angular_velocity.z(),
+                               p.radius}) {
+          *at++ = ',';
+          at = put_g17(at, buf + sizeof buf, v);
+        }
+        text.append(buf, at);
+        if (with_material) {
+          text += ',';
+          text += material_names[p.material];
+        }
+        text += '\n';
+      }
+    }
+    for (const std::string& text : texts) writer.write(text.data(), text.size());
+  }
   writer.commit();
 }
 

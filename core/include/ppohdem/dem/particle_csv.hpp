@@ -9,20 +9,31 @@
 /// skipped. The writer uses the same columns with 17 significant digits, so final.csv can
 /// start a new run and round-trips exactly; it writes the material column only for a scene of
 /// several materials (one-material outputs are unchanged).
+#include <cstddef>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ppohdem/dem/particle.hpp"
 
 namespace ppohdem::dem {
 
-/// Throws InputError(file, line, ...) on a wrong header, a wrong number of fields, a value
+/// Reads the whole file, then parses its lines on the OpenMP threads.
+/// Throws InputError(file, line, ...) at the first bad line in file order, on a wrong header, a wrong number of fields, a value
 /// that is not a number or not finite (NaN, inf), a radius <= 0, or a repeated id; with a
 /// material column, a name not in `material_names` (Particle::material = its index there), or
 /// no names at all (a scene without named materials).
 Particles read_particles_csv(const std::filesystem::path& file,
                              const std::vector<std::string>& material_names = {});
+
+namespace detail {
+/// read_particles_csv's parse of a file's text `text` (named `name` in errors), its data lines
+/// cut into `pieces` pieces parsed at the same time (OpenMP): the same particles and the same
+/// first error, in file order, for any number of pieces (tests/dem/particle_io_test.cpp).
+Particles parse_particles_csv(std::string_view text, const std::string& name,
+                              const std::vector<std::string>& material_names, std::size_t pieces);
+}  // namespace detail
 
 /// Writes atomically; `header_comment` (e.g. the provenance line) goes on a '#' line first.
 /// With two or more `material_names`, adds the material column (each particle's name).
