@@ -12,6 +12,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -21,7 +22,10 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <sys/stat.h>
 
 #ifdef PPOHDEM_WITH_OPENMP
 #include <omp.h>
@@ -255,6 +259,32 @@ RC_GTEST_PROP(ParticleIo, AnyPiecesReadAsTheModelSays, ()) {
     RC_ASSERT(one == want);
   }
   for (const std::size_t pieces : {2u, 3u, 5u, 8u, 61u}) RC_ASSERT(parse_outcome(text, pieces) == one);
+}
+
+// A particle file that is not a regular file (a named pipe: no size to read at once) is read
+// to its end, the same as a file.
+TEST(ParticleIo, ReaderReadsANamedPipe) {
+  const fs::path pipe = ppohdem::test::scratch_dir() / "particle_io_pipe.csv";
+  fs::remove(pipe);
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  const std::string text = "# from a pipe\nid,x,y,z,vx,vy,vz,wx,wy,wz,radius\n1,0.5,0,0,0,0,0,0,0,0,1e-3\n"
+                           "2, 1.5 ,0,0,0,0,0,0,0,0,1e-3";
+  std::signal(SIGPIPE, SIG_IGN);  // a reader that stops early must not kill the test
+  std::thread writer([&] { std::ofstream(pipe) << text; });
+  Particles p;
+  std::string error;
+  try {
+    p = read_particles_csv(pipe);
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  writer.join();
+  fs::remove(pipe);
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(parse_outcome(text, 1), parse_outcome(text, 3));
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[1].id, 2);
+  EXPECT_EQ(p[1].position.x(), 1.5);
 }
 
 /// All pairs, the definition (simulation_setup.hpp).

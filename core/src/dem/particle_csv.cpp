@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -328,6 +329,8 @@ Particles read_particles_csv(const std::filesystem::path& file,
     text.resize(static_cast<std::size_t>(size));
     in.read(text.data(), static_cast<std::streamsize>(text.size()));
     text.resize(static_cast<std::size_t>(in.gcount()));  // a file that shrank meanwhile
+  } else {  // not a regular file (a pipe): read to its end
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
   std::size_t threads = 1;
 #ifdef PPOHDEM_WITH_OPENMP
