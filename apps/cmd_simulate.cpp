@@ -197,12 +197,13 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     engine = factory->second(scene.setup);
   }
   // The engine holds the particles now; the scene's copy is not read again (run_scene uses
-  // the materials, boundaries and outputs): free it (about 140 bytes per particle).
+  // the materials, boundaries and outputs): free it (about 140 bytes per particle), after
+  // counting them (every rank read all of them: no gather of the engine's).
+  const std::size_t particle_count = scene.setup.particles.size();
   dem::Particles().swap(scene.setup.particles);
   const double setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
   std::string header = provenance_line(ranks) + "; engine " + engine->name();
   if (options.perturb_seed) header += "; perturb-seed " + std::to_string(*options.perturb_seed);
-  const std::size_t particle_count = engine->particles().size();  // collective: on every rank
   if (root) std::fprintf(stderr, "%s\n", header.c_str());
   if (root && ranks > 1) {
     const auto grid = dynamic_cast<const dem::fast::FastEngine&>(*engine).rank_grid();
