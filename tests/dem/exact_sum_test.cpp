@@ -1,7 +1,7 @@
-// ExactSum and BinnedExactSum (ppohdem/dem/exact_sum.hpp) against independent answers: cases
-// whose exact sum is known by reasoning, random sums against Python's rational arithmetic
+// ExactSum and add_terms (ppohdem/dem/exact_sum.hpp) against independent answers: cases whose
+// exact sum is known by reasoning, random sums against Python's rational arithmetic
 // (exact_sum_oracle.py), and the property the engines rely on: any order and any split into
-// merged parts give the same bits, with or without the bins.
+// merged parts give the same bits, one term at a time or in lanes.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -21,7 +21,6 @@
 
 namespace {
 
-using ppohdem::dem::BinnedExactSum;
 using ppohdem::dem::ExactSum;
 
 double exact(const std::vector<double>& terms) {
@@ -30,10 +29,10 @@ double exact(const std::vector<double>& terms) {
   return s.value();
 }
 
-double binned(const std::vector<double>& terms) {
-  BinnedExactSum s;
-  for (const double t : terms) s.add(t);
-  return s.sum().value();
+double in_lanes(const std::vector<double>& terms) {
+  ExactSum s;
+  ppohdem::dem::add_terms(s, terms);
+  return s.value();
 }
 
 std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
@@ -80,34 +79,6 @@ TEST(ExactSum, ManyTermsCarryWithoutOverflow) {
   ExactSum tenths;  // 10^6 x 0.1 (the double) = 100000.0000000000055511151231257827 exactly
   for (int i = 0; i < 1000000; ++i) tenths.add(0.1);
   EXPECT_EQ(tenths.value(), 100000.0);
-}
-
-TEST(BinnedExactSum, ManyTermsInOneBinFlushWithoutOverflow) {
-  // The same sums through the bins: far more than 1024 terms in one bin (the largest
-  // mantissas of the top exponent, then the bin's flushes into the exact sum).
-  BinnedExactSum s;
-  for (int i = 0; i < 100000; ++i) s.add(kMax);
-  for (int i = 0; i < 100000; ++i) s.add(-kMax);
-  s.add(1.0);
-  EXPECT_EQ(s.sum().value(), 1.0);
-  BinnedExactSum tenths;
-  for (int i = 0; i < 1000000; ++i) tenths.add(0.1);
-  EXPECT_EQ(tenths.sum().value(), 100000.0);
-  // A reset sum is empty and reusable; its used bins were cleared.
-  tenths.reset();
-  EXPECT_EQ(bits(tenths.sum().value()), bits(0.0));
-  tenths.add(0.25);
-  EXPECT_EQ(tenths.sum().value(), 0.25);
-  // The largest |bin| before a flush: 1024 terms of mantissa 2^53 - 1, one sign, per exponent.
-  BinnedExactSum full;
-  ExactSum want;
-  const double top = std::nextafter(2.0, 0.0);  // (2^53 - 1) 2^-52
-  for (int i = 0; i < 3000; ++i) {
-    full.add(-top);
-    want.add(-top);
-  }
-  EXPECT_EQ(full.sum().value(), want.value());
-  EXPECT_EQ(full.sum().value(), -3000.0 * top);  // the exact sum rounded once: the IEEE product
 }
 
 // Random terms over the whole range: mixed magnitudes, subnormals, cancelling pairs, near ties.
@@ -177,7 +148,7 @@ TEST(ExactSum, MatchesPythonRationalArithmetic) {
     ASSERT_TRUE(answers >> hex) << "the oracle gave fewer answers than cases";
     const double want = hex == "inf" ? kInf : hex == "-inf" ? -kInf : std::strtod(hex.c_str(), nullptr);
     EXPECT_EQ(bits(exact(terms)), bits(want)) << "case " << checked << ": want " << hex;
-    EXPECT_EQ(bits(binned(terms)), bits(want)) << "binned, case " << checked << ": want " << hex;
+    EXPECT_EQ(bits(in_lanes(terms)), bits(want)) << "in lanes, case " << checked << ": want " << hex;
     ++checked;
   }
   EXPECT_EQ(checked, cases.size());
@@ -215,26 +186,72 @@ RC_GTEST_PROP(ExactSumProperty, OrderAndSplitDoNotChangeTheBits, ()) {
   RC_ASSERT(bits(ExactSum::from_words(words).value()) == bits(whole));
 }
 
-// The bins give ExactSum's bits for any terms, infinities and NaNs included, and their sums
-// merge like ExactSum's.
-RC_GTEST_PROP(BinnedExactSumProperty, GivesTheExactSumsBits, ()) {
-  const auto raw = *rc::gen::container<std::vector<std::uint64_t>>(rc::gen::arbitrary<std::uint64_t>());
-  const std::size_t repeat = *rc::gen::inRange<std::size_t>(1, 700);  // many terms per bin: flushes
-  ExactSum plain;
-  BinnedExactSum bins;
-  for (std::size_t r = 0; r < repeat; ++r) {
-    for (const std::uint64_t b : raw) {
-      const double x = std::bit_cast<double>(b);
-      plain.add(x);
-      bins.add(x);
+namespace {
+
+// The words of adding each term to an empty sum (what add_terms must give).
+std::array<std::int64_t, ExactSum::kWords> words_one_by_one(const std::vector<double>& terms) {
+  ExactSum s;
+  for (const double t : terms) s.add(t);
+  std::array<std::int64_t, ExactSum::kWords> w{};
+  std::copy_n(s.words().begin(), ExactSum::kWords, w.begin());
+  return w;
+}
+
+std::array<std::int64_t, ExactSum::kWords> words_in_lanes(const std::vector<double>& terms) {
+  ExactSum s;
+  ppohdem::dem::add_terms(s, terms);
+  std::array<std::int64_t, ExactSum::kWords> w{};
+  std::copy_n(s.words().begin(), ExactSum::kWords, w.begin());
+  return w;
+}
+
+TEST(AddTerms, FullPiecesAtTheLevelsBound) {
+  // 1,024 terms just below 2^e, one sign: the level's sum reaches its bound sigma; then with
+  // mixed signs, a term of another level, and pieces beyond the first.
+  for (const int e : {-1000, -1021, -60, 0, 52, 1000, 1013, 1014, 1023}) {
+    const double top = std::nextafter(std::ldexp(1.0, e), 0.0);
+    std::vector<double> terms(1024, top);
+    EXPECT_EQ(words_in_lanes(terms), words_one_by_one(terms)) << "2^" << e;
+    for (std::size_t i = 0; i < terms.size(); i += 3) terms[i] = -terms[i];
+    terms.push_back(std::ldexp(1.5, e - 200));
+    terms.push_back(kTiny);
+    terms.insert(terms.end(), 2000, std::ldexp(top, -7));
+    EXPECT_EQ(words_in_lanes(terms), words_one_by_one(terms)) << "mixed, 2^" << e;
+  }
+  // Known by reasoning (as for ExactSum above): many pieces, and terms beyond the lemma's range.
+  EXPECT_EQ(in_lanes(std::vector<double>(1000000, 0.1)), 100000.0);
+  std::vector<double> huge(100000, kMax);
+  huge.insert(huge.end(), 100000, -kMax);
+  huge.push_back(1.0);
+  EXPECT_EQ(in_lanes(huge), 1.0);
+  EXPECT_EQ(words_in_lanes({}), words_one_by_one({}));
+  EXPECT_EQ(words_in_lanes({0.0, -0.0}), words_one_by_one({0.0, -0.0}));
+  EXPECT_EQ(words_in_lanes({kMax, kMax, -kMax, kInf, 1.0}), words_one_by_one({kMax, kMax, -kMax, kInf, 1.0}));
+}
+
+}  // namespace
+
+// add_terms gives the words of one add a term, for terms anywhere (infinities and NaNs
+// included), and for many terms within a window of exponents (several pieces and levels).
+RC_GTEST_PROP(AddTermsProperty, GivesTheWordsOfOneAddATerm, ()) {
+  std::vector<double> terms;
+  if (*rc::gen::inRange(0, 3) == 0) {
+    for (const std::uint64_t b : *rc::gen::container<std::vector<std::uint64_t>>(rc::gen::arbitrary<std::uint64_t>())) {
+      terms.push_back(std::bit_cast<double>(b));
+    }
+  } else {
+    const int low = *rc::gen::inRange(-1074, 1024);
+    const int width = *rc::gen::inRange(0, 300);
+    const std::size_t n = *rc::gen::inRange<std::size_t>(0, 3000);
+    std::mt19937_64 rng(*rc::gen::arbitrary<std::uint64_t>());
+    for (std::size_t i = 0; i < n; ++i) {
+      const int e = std::min(low + static_cast<int>(rng() % static_cast<std::uint64_t>(width + 1)), 1023);
+      const std::uint64_t mantissa = rng() >> (rng() % 64 < 8 ? 12 + rng() % 52 : 12);  // some short mantissas
+      double x = std::ldexp(static_cast<double>(mantissa | (std::uint64_t{1} << 52)), std::max(e, -1022) - 52);
+      if (e < -1022) x = std::ldexp(x, e + 1022);  // subnormal (rounded: any double will do)
+      if (rng() % 8 == 0) x = 0.0;
+      terms.push_back(rng() & 1 ? -x : x);
     }
   }
-  const double want = plain.value();
-  const double got = bins.sum().value();
-  ExactSum merged;
-  merged.merge(bins.sum());
-  const double again = merged.value();
-  const bool nan = std::isnan(want);
-  const bool same = nan ? std::isnan(got) && std::isnan(again) : bits(got) == bits(want) && bits(again) == bits(want);
-  RC_ASSERT(same);
+  RC_ASSERT(words_in_lanes(terms) == words_one_by_one(terms));
 }

@@ -42,21 +42,27 @@ void split(std::string_view line, std::vector<std::string_view>& fields) {
   }
 }
 
-// The value std::stod gives a field, when std::from_chars reads it whole into a normal number
-// or an exact zero: both round correctly, so the values are the same. Anything else (a '+',
-// hexadecimal, inf/nan, an underflow or overflow, trailing characters) returns nothing and
-// takes std::stod's path, which decides as before (docs/performance.md "Reading and writing
-// particles").
+// A number std::from_chars reads from `at` into a normal number or an exact zero: both round
+// correctly, so v is the value std::stod gives those characters. Returns the end of the
+// number, or nullptr for anything else (a '+', hexadecimal, inf/nan, an underflow or
+// overflow), which takes std::stod's path and is decided as before (docs/performance.md
+// "Reading and writing particles").
+const char* read_number(const char* at, const char* end, double& v) {
+  const auto [ptr, ec] = std::from_chars(at, end, v);
+  if (ec != std::errc()) return nullptr;
+  if (std::isnormal(v)) return ptr;
+  if (v != 0.0) return nullptr;  // subnormal: strtod reports a range error
+  for (const char* d = at; d < ptr && *d != 'e' && *d != 'E'; ++d) {
+    if (*d >= '1' && *d <= '9') return nullptr;  // an underflow to zero: stod's range error
+  }
+  return ptr;
+}
+
+// The value std::stod gives a whole field, when read_number reads all of it.
 std::optional<double> quick_number(std::string_view f) {
   double v = 0.0;
-  const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
-  if (ec != std::errc() || ptr != f.data() + f.size()) return std::nullopt;
-  if (std::isnormal(v)) return v;
-  if (v != 0.0) return std::nullopt;  // subnormal: strtod reports a range error
-  for (const char c : f) {            // zero: exact only if no digit of the mantissa is non-zero
-    if (c == 'e' || c == 'E') break;
-    if (c >= '1' && c <= '9') return std::nullopt;
-  }
+  const char* const end = f.data() + f.size();
+  if (read_number(f.data(), end, v) != end) return std::nullopt;
   return v;
 }
 
@@ -69,7 +75,7 @@ char* put_g17(char* at, char* end, double v) {
 // A line of eleven plain fields (no blanks, no material column, each number read whole by
 // from_chars into a normal number or an exact zero, a positive radius): its particle, taken
 // without splitting the line first. Anything else returns false and takes parse_line's path,
-// which decides it as before (the same value bits: quick_number reads the same characters).
+// which decides it as before (the same value bits: read_number serves both).
 bool plain_line(std::string_view line, Particle& p) {
   const char* at = line.data();
   const char* const end = line.data() + line.size();
@@ -78,15 +84,9 @@ bool plain_line(std::string_view line, Particle& p) {
   at = id_end + 1;
   double v[kColumns - 1];
   for (std::size_t c = 0; c < kColumns - 1; ++c) {
-    const auto [ptr, ec] = std::from_chars(at, end, v[c]);
+    const char* const ptr = read_number(at, end, v[c]);
     const bool last = c + 2 == kColumns;  // the radius ends the line
-    if (ec != std::errc() || (last ? ptr != end : (ptr == end || *ptr != ','))) return false;
-    if (!std::isnormal(v[c])) {
-      if (v[c] != 0.0) return false;
-      for (const char* d = at; d < ptr && *d != 'e' && *d != 'E'; ++d) {
-        if (*d >= '1' && *d <= '9') return false;  // an underflow to zero: stod's range error
-      }
-    }
+    if (ptr == nullptr || (last ? ptr != end : (ptr == end || *ptr != ','))) return false;
     at = ptr + 1;
   }
   if (!(v[9] > 0.0)) return false;

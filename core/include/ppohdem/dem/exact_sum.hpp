@@ -20,7 +20,8 @@
 /// order of the terms and of the merges cannot change A.
 /// Infinities and NaNs are counted apart; the sum is NaN if there is a NaN or both infinities,
 /// else the infinity if there is one (what any order of IEEE additions gives, up to the NaN's
-/// payload). A sum of zeros is +0.
+/// payload). A sum of zeros is +0. Why by hand: no Debian package has an exact summation whose
+/// partial sums travel in an MPI message (words() below).
 #include <array>
 #include <bit>
 #include <cmath>
@@ -63,24 +64,6 @@ class ExactSum {
     const auto sign = -static_cast<std::int64_t>(bits >> 63);
     words_[k] += (low ^ sign) - sign;
     words_[k + 1] += (high ^ sign) - sign;
-    if (++terms_ == kTermsBetweenCarries) propagate_carries();
-  }
-
-  /// Adds the exact value c 2^s 2^-1074 (|c| < 2^63, s <= 2045) as one term: the bin of
-  /// BinnedExactSum whose doubles had s (see the top) as their exponent. c 2^(s mod 32) spans
-  /// three limbs from s/32 (< 2^32 each, the top one < 2^31), less than a double's 2^53.
-  void add_integer(std::int64_t c, unsigned s) {
-    if (c == 0) return;
-    nonzero_ = true;
-    const std::uint64_t magnitude = c < 0 ? std::uint64_t{0} - static_cast<std::uint64_t>(c) : static_cast<std::uint64_t>(c);
-    const unsigned k = s / 32;
-    const unsigned shift = s % 32;
-    const std::uint64_t below = magnitude << shift;                        // bits [0, 64) of magnitude 2^shift
-    const std::uint64_t above = shift != 0 ? magnitude >> (64 - shift) : 0;  // bits [64, 95)
-    const auto sign = c < 0 ? std::int64_t{-1} : std::int64_t{0};
-    words_[k] += (static_cast<std::int64_t>(below & 0xffffffffu) ^ sign) - sign;
-    words_[k + 1] += (static_cast<std::int64_t>(below >> 32) ^ sign) - sign;
-    words_[k + 2] += (static_cast<std::int64_t>(above) ^ sign) - sign;
     if (++terms_ == kTermsBetweenCarries) propagate_carries();
   }
 
@@ -186,66 +169,14 @@ class ExactSum {
   bool nonzero_ = false;  ///< some term was not zero (else the words are all zero)
 };
 
-/// An ExactSum with a cheaper add for many terms of few magnitudes (a step's rates, a pass's
-/// energies): Neal's "large superaccumulator" (arXiv:1505.05571, see the top) in front of the
-/// small one. Each finite double's signed 53-bit integer m goes into the 64-bit bin of its
-/// biased exponent; after 1024 terms (|bin| < 2^10 2^53 = 2^63) or when the sum is asked, every
-/// used bin is added to the ExactSum as one term (add_integer). Integer additions again, so
-/// the value is ExactSum's, bit for bit, for any order and split. Why by hand: no Debian
-/// package has an exact summation whose partial sums travel in an MPI message.
-class BinnedExactSum {
- public:
-  void add(double x) {
-    const auto bits = std::bit_cast<std::uint64_t>(x);
-    if ((bits << 1) == 0) return;  // +0 or -0
-    const unsigned biased = static_cast<unsigned>(bits >> 52) & 0x7ffu;
-    if (biased == 0x7ffu) {  // inf or NaN: counted by the exact sum
-      sum_.add(x);
-      return;
-    }
-    const std::uint64_t m = (bits & ((std::uint64_t{1} << 52) - 1)) | (biased != 0 ? std::uint64_t{1} << 52 : 0);
-    const auto sign = -static_cast<std::int64_t>(bits >> 63);
-    bins_[biased] += (static_cast<std::int64_t>(m) ^ sign) - sign;
-    used_[biased / 64] |= std::uint64_t{1} << (biased % 64);
-    if (--room_ == 0) flush();
-  }
-
-  /// The exact sum of every term added (the bins flushed into it).
-  ExactSum& sum() {
-    flush();
-    return sum_;
-  }
-
-  /// Back to the empty sum (only the used bins are cleared).
-  void reset() {
-    for (std::size_t w = 0; w < used_.size(); ++w) {
-      for (std::uint64_t u = used_[w]; u != 0; u &= u - 1) bins_[64 * w + static_cast<std::size_t>(std::countr_zero(u))] = 0;
-      used_[w] = 0;
-    }
-    room_ = kTermsPerFlush;
-    sum_.reset();
-  }
-
- private:
-  static constexpr unsigned kTermsPerFlush = 1024;  ///< |m| < 2^53: 2^10 of them stay below 2^63
-
-  void flush() {
-    for (std::size_t w = 0; w < used_.size(); ++w) {
-      for (std::uint64_t u = used_[w]; u != 0; u &= u - 1) {
-        const std::size_t biased = 64 * w + static_cast<std::size_t>(std::countr_zero(u));
-        sum_.add_integer(bins_[biased], biased != 0 ? static_cast<unsigned>(biased) - 1 : 0u);  // s of exact_sum.hpp's top
-        bins_[biased] = 0;
-      }
-      used_[w] = 0;
-    }
-    room_ = kTermsPerFlush;
-  }
-
-  std::array<std::int64_t, 2048> bins_{};  ///< by biased exponent (0x7ff unused)
-  std::array<std::uint64_t, 32> used_{};   ///< bit e: bins_[e] may be nonzero
-  unsigned room_ = kTermsPerFlush;          ///< terms before the next flush
-  ExactSum sum_;
-};
+/// Adds every term to `sum`: the same words as sum.add(t) for each t, in lanes. Each piece of
+/// up to 1,024 terms is split level by level with Rump's error-free extraction (q = (sigma + x)
+/// - sigma, x - q exact; Rump, Ogita & Oishi, "Accurate floating-point summation part I",
+/// SIAM J. Sci. Comput. 31(1), 2008, Lemma 3.3): the q of a level are multiples of one unit
+/// and their sum is below sigma, so it is exact in doubles, in any order, and goes into `sum`
+/// as one term (docs/dem.md "Sums over particles"). Terms too small or too large for a normal
+/// sigma, infinities and NaNs are added one by one.
+void add_terms(ExactSum& sum, std::span<const double> terms);
 
 /// K exact sums side by side (e.g. the energy terms of the particles).
 template <std::size_t K>

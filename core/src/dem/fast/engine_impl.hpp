@@ -235,9 +235,6 @@ struct FastEngine::Impl {
   /// pv, pw hold the closing half kick of the last step (see step()); false after a (re)load.
   bool kick_cached = false;
   mutable std::vector<EvaluationSums> thread_sums;  ///< sum_owned's partial sums, one per thread (reused)
-  /// sum_owned's bins of the state's energies (elastic, kinetic, rotational, gravitational), one
-  /// set per thread (reused).
-  mutable std::vector<std::array<BinnedExactSum, 4>> state_bins;
   std::vector<std::vector<std::uint32_t>> search_buffers;  ///< search_neighbours' per-block lists (reused)
   ProbeColumns search_probes;  ///< search_neighbours' centres and radii in member order (reused)
   /// A list build's histories (build_lists): kept between builds so that their storage is

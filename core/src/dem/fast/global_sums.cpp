@@ -1,7 +1,9 @@
 // Sums over particles, exact until one rounding (ppohdem/dem/exact_sum.hpp): the same bits for
 // any thread count, rank count and storage order, without gathering any particle's terms
 // (docs/dem.md "Sums over particles"): contact energies, boundary loads, escaped counts.
-#include <bit>
+#include <algorithm>
+#include <array>
+#include <span>
 
 #include "engine_impl.hpp"
 
@@ -14,30 +16,37 @@ EvaluationSums FastEngine::Impl::sum_owned(bool state, bool with_loads) const {
   if (thread_sums.size() < threads || thread_sums.front().sums.size() != EvaluationSums::kEnergies + 6 * nb) {
     thread_sums.assign(threads, EvaluationSums(nb));
   }
-  if (state_bins.size() < threads) state_bins.resize(threads);
   const bool elastic = state && energy_balance;
   PPOHDEM_OMP(omp parallel num_threads(static_cast<int>(threads)) if (threads > 1))
   {
     EvaluationSums& mine = thread_sums[static_cast<std::size_t>(thread_id())];  // merged in any order below
     mine.reset();
-    ExactSum* const e = mine.energy();
-    // The state's energies through bins (BinnedExactSum: the same bits, a cheaper add).
-    std::array<BinnedExactSum, 4>& bins = state_bins[static_cast<std::size_t>(thread_id())];
-    for (BinnedExactSum& b : bins) b.reset();
-    PPOHDEM_OMP(omp for schedule(static))
-    for (std::size_t k = 0; k < n; ++k) {
-      if (elastic) bins[0].add(s.terms[k].elastic);
-      if (state) {
-        const std::array<double, 3> m = motion_terms(s, k);
-        bins[1].add(m[0]);
-        bins[2].add(m[1]);
-        bins[3].add(m[2]);
-      }
-      if (with_loads) add_records(mine, k);
+    if (with_loads) {
+      PPOHDEM_OMP(omp for schedule(static))
+      for (std::size_t k = 0; k < n; ++k) add_records(mine, k);
     }
     if (state) {
-      e[0].merge(bins[0].sum());
-      for (std::size_t c = 1; c < 4; ++c) e[3 + c].merge(bins[c].sum());
+      // The state's energies a block at a time, each column added in lanes (add_terms: the
+      // same bits as one exact add a term).
+      ExactSum* const e = mine.energy();
+      constexpr std::size_t kBlock = 1024;
+      std::array<std::array<double, kBlock>, 4> terms;  // elastic, kinetic, rotational, gravitational
+      const std::size_t blocks = (n + kBlock - 1) / kBlock;
+      PPOHDEM_OMP(omp for schedule(static))
+      for (std::size_t b = 0; b < blocks; ++b) {
+        const std::size_t begin = b * kBlock, count = std::min(kBlock, n - begin);
+        for (std::size_t j = 0; j < count; ++j) {
+          const std::array<double, 3> m = motion_terms(s, begin + j);
+          terms[1][j] = m[0];
+          terms[2][j] = m[1];
+          terms[3][j] = m[2];
+        }
+        if (elastic) {
+          for (std::size_t j = 0; j < count; ++j) terms[0][j] = s.terms[begin + j].elastic;
+          add_terms(e[0], std::span<const double>(terms[0].data(), count));
+        }
+        for (std::size_t c = 1; c < 4; ++c) add_terms(e[3 + c], std::span<const double>(terms[c].data(), count));
+      }
     }
   }
   EvaluationSums all = thread_sums[0];
