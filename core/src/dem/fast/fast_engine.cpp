@@ -1,11 +1,13 @@
 // The fast engine behind the DemEngine interface (fast_engine.hpp); its concepts live in the
 // files listed in engine_impl.hpp.
 #include "engine_impl.hpp"
+#include "ppohdem/simd_level.hpp"
 
 namespace ppohdem::dem::fast {
 
 FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl_(std::make_unique<Impl>()) {
   validate_setup(setup);
+  (void)simd_level();  // a bad PPOHDEM_SIMD is reported here, not inside the parallel loops
   Impl& m = *impl_;
   if (options.comm != nullptr) m.comm = options.comm;
   m.s.dt = setup.dt;
