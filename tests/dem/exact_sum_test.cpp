@@ -29,9 +29,13 @@ double exact(const std::vector<double>& terms) {
   return s.value();
 }
 
+// add_terms' value; add_terms_overwriting (on a copy) must give the same bits, else NaN.
 double in_lanes(const std::vector<double>& terms) {
-  ExactSum s;
+  ExactSum s, t;
   ppohdem::dem::add_terms(s, terms);
+  std::vector<double> scratch = terms;
+  ppohdem::dem::add_terms_overwriting(t, scratch);
+  if (std::bit_cast<std::uint64_t>(s.value()) != std::bit_cast<std::uint64_t>(t.value())) return std::nan("");
   return s.value();
 }
 
@@ -197,11 +201,17 @@ std::array<std::int64_t, ExactSum::kWords> words_one_by_one(const std::vector<do
   return w;
 }
 
+// add_terms' words; add_terms_overwriting (on a copy) must give the same, else the answer is
+// {-1, 0, ...}, which is no sum's words (the limbs below the last are in [0, 2^32)).
 std::array<std::int64_t, ExactSum::kWords> words_in_lanes(const std::vector<double>& terms) {
-  ExactSum s;
+  ExactSum s, t;
   ppohdem::dem::add_terms(s, terms);
-  std::array<std::int64_t, ExactSum::kWords> w{};
+  std::vector<double> scratch = terms;
+  ppohdem::dem::add_terms_overwriting(t, scratch);
+  std::array<std::int64_t, ExactSum::kWords> w{}, v{};
   std::copy_n(s.words().begin(), ExactSum::kWords, w.begin());
+  std::copy_n(t.words().begin(), ExactSum::kWords, v.begin());
+  if (v != w) return {-1};
   return w;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "ppohdem/dem/exact_sum.hpp"
 #include "ppohdem/simd_level.hpp"
@@ -115,19 +116,31 @@ template <std::size_t W>
   }
 }
 
-template <std::size_t W>
-[[gnu::always_inline]] inline void add_all(ExactSum& sum, std::span<const double> terms) {
+// Whole pieces of kLanes-multiples in place when the terms may be overwritten (T = double),
+// else each piece copied to scratch first; the last few terms padded with zeros in scratch.
+template <std::size_t W, class T>
+[[gnu::always_inline]] inline void add_all(ExactSum& sum, std::span<T> terms) {
   alignas(64) double r[kPiece];
-  for (std::size_t at = 0; at < terms.size(); at += kPiece) {
-    const std::size_t n = std::min(kPiece, terms.size() - at);
+  for (std::size_t at = 0; at < terms.size();) {
+    std::size_t n = std::min(kPiece, terms.size() - at);
+    if constexpr (!std::is_const_v<T>) {
+      if (n >= kLanes) {
+        n = n / kLanes * kLanes;
+        add_piece<W>(sum, terms.data() + at, n);
+        at += n;
+        continue;
+      }
+    }
     std::copy_n(terms.data() + at, n, r);
     const std::size_t padded = (n + kLanes - 1) / kLanes * kLanes;
     std::fill(r + n, r + padded, 0.0);
     add_piece<W>(sum, r, padded);
+    at += n;
   }
 }
 
 void add_all_baseline(ExactSum& sum, std::span<const double> terms) { add_all<2>(sum, terms); }
+void add_all_baseline(ExactSum& sum, std::span<double> terms) { add_all<2>(sum, terms); }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 // Ends with vzeroupper on every path, the empty one too (docs/portability.md "Upper register
@@ -136,16 +149,24 @@ void add_all_baseline(ExactSum& sum, std::span<const double> terms) { add_all<2>
   add_all<8>(sum, terms);
   _mm256_zeroupper();
 }
+[[gnu::target("avx512f")]] void add_all_avx512(ExactSum& sum, std::span<double> terms) {
+  add_all<8>(sum, terms);
+  _mm256_zeroupper();
+}
 #endif
 
-}  // namespace
-
-void add_terms(ExactSum& sum, std::span<const double> terms) {
+template <class T>
+void add_terms_at_level(ExactSum& sum, std::span<T> terms) {
 #if defined(__x86_64__) && defined(__GNUC__)
   static const bool eight = simd_level() >= SimdLevel::avx512;  // the level is fixed for the process
   if (eight) return add_all_avx512(sum, terms);
 #endif
   add_all_baseline(sum, terms);
 }
+
+}  // namespace
+
+void add_terms(ExactSum& sum, std::span<const double> terms) { add_terms_at_level(sum, terms); }
+void add_terms_overwriting(ExactSum& sum, std::span<double> terms) { add_terms_at_level(sum, terms); }
 
 }  // namespace ppohdem::dem

@@ -177,6 +177,9 @@ class ExactSum {
 /// as one term (docs/dem.md "Sums over particles"). Terms too small or too large for a normal
 /// sigma, infinities and NaNs are added one by one.
 void add_terms(ExactSum& sum, std::span<const double> terms);
+/// add_terms for terms that may be overwritten (scratch arrays): the same words, without
+/// copying the terms to scratch of its own; `terms` holds garbage afterwards.
+void add_terms_overwriting(ExactSum& sum, std::span<double> terms);
 
 /// K exact sums side by side (e.g. the energy terms of the particles).
 template <std::size_t K>

@@ -105,6 +105,16 @@ struct alignas(64) ThreadOutput {
   /// The exact sums of this range's particles' energy rates in this evaluation (kEnergy):
   /// dissipated [J], boundary work [J], boundary power [W] (docs/dem.md "Energy book-keeping").
   std::array<ExactSum, 3> rates;
+  /// This range's nonzero dissipation rates not yet in rates[0], one a particle: added in
+  /// lanes when the buffer is full and at the end of each pair pass (add_dissipation_buffer),
+  /// the same words as one exact add each at a fraction of the cost (docs/performance.md
+  /// "Energy book-keeping").
+  std::array<double, 1024> dissipation_buffer;
+  std::size_t buffered = 0;
+  void add_dissipation_buffer() {
+    add_terms_overwriting(rates[0], std::span<double>(dissipation_buffer.data(), buffered));
+    buffered = 0;
+  }
 };
 
 /// Deterministic choice of the deeper contact: larger ratio, ties to the smaller

@@ -149,7 +149,8 @@ inline void visit_boundary(const K& kernel, RangePass& pass, BoundaryWalk& walk,
 }
 
 /// Particle i's energy terms of this evaluation (kEnergy): its elastic energy kept for the
-/// state's sum (summed only when asked), its three rates added to the range's exact sums,
+/// state's sum (summed only when asked), its three rates added to the range's exact sums
+/// (the dissipation through the range's buffer),
 /// the step's only pass over them (docs/dem.md "Energy book-keeping"); a particle whose rates
 /// are all +-0 (most of a dilute phase) adds nothing, with one test.
 inline void store_terms(RangePass& pass, std::size_t i, const ParticleSums& sums) {
@@ -157,9 +158,11 @@ inline void store_terms(RangePass& pass, std::size_t i, const ParticleSums& sums
   const std::uint64_t bits = std::bit_cast<std::uint64_t>(sums.dissipated) | std::bit_cast<std::uint64_t>(sums.work) |
                              std::bit_cast<std::uint64_t>(sums.power);
   if ((bits << 1) != 0) {
-    pass.out.rates[0].add(sums.dissipated);
-    pass.out.rates[1].add(sums.work);
-    pass.out.rates[2].add(sums.power);
+    ThreadOutput& out = pass.out;
+    out.dissipation_buffer[out.buffered] = sums.dissipated;
+    if (++out.buffered == out.dissipation_buffer.size()) out.add_dissipation_buffer();
+    out.rates[1].add(sums.work);  // +-0 for a particle that touches no boundary: no add
+    out.rates[2].add(sums.power);
   }
 }
 

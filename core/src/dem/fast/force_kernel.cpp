@@ -183,6 +183,7 @@ class Kernel final : public ForceKernel {
         } else {
           frictionless_pair_pass(*this, pass);
         }
+        if constexpr (kEnergy) pass.out.add_dissipation_buffer();
         s.range_seconds[range] += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       };
       PPOHDEM_OMP(omp for schedule(static, 1) nowait)
@@ -193,6 +194,7 @@ class Kernel final : public ForceKernel {
         out.deepest.reset();
         if constexpr (kEnergy) {
           for (ExactSum& rate : out.rates) rate.reset();
+          out.buffered = 0;
         }
         const std::size_t begin = s.split[range];
         const std::size_t end = std::max(begin, std::min(s.split[range + 1], interior));

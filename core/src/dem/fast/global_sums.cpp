@@ -27,7 +27,7 @@ EvaluationSums FastEngine::Impl::sum_owned(bool state, bool with_loads) const {
     }
     if (state) {
       // The state's energies a block at a time, each column added in lanes (add_terms: the
-      // same bits as one exact add a term).
+      // same bits as one exact add a term), in place: the columns are scratch.
       ExactSum* const e = mine.energy();
       constexpr std::size_t kBlock = 1024;
       std::array<std::array<double, kBlock>, 4> terms;  // elastic, kinetic, rotational, gravitational
@@ -43,9 +43,9 @@ EvaluationSums FastEngine::Impl::sum_owned(bool state, bool with_loads) const {
         }
         if (elastic) {
           for (std::size_t j = 0; j < count; ++j) terms[0][j] = s.terms[begin + j].elastic;
-          add_terms(e[0], std::span<const double>(terms[0].data(), count));
+          add_terms_overwriting(e[0], std::span<double>(terms[0].data(), count));
         }
-        for (std::size_t c = 1; c < 4; ++c) add_terms(e[3 + c], std::span<const double>(terms[c].data(), count));
+        for (std::size_t c = 1; c < 4; ++c) add_terms_overwriting(e[3 + c], std::span<double>(terms[c].data(), count));
       }
     }
   }
