@@ -26,8 +26,8 @@ FastEngine::Impl::CellOrder FastEngine::Impl::sort_owned_by_cell() {
   // set from x below, and the energy terms are the last evaluation's outputs, which this
   // step's evaluation (after the build) writes afresh for every owned particle before any
   // sum reads them (force_sums.hpp, close_kick). They are zeroed (what untracked terms
-  // hold) rather than moved: moving their 64-byte records through a new vector zero-filled
-  // on one thread is a serial pass (docs/performance.md "The cell sort carries less").
+  // hold) rather than moved: moving them through a new vector zero-filled on one thread is a
+  // serial pass (docs/performance.md "The cell sort carries less").
   for_each_particle_array(s, [&](auto& a) {
     using Array = std::decay_t<decltype(a)>;
     if constexpr (std::is_same_v<Array, std::vector<FastState::ParticleTerms>>) {

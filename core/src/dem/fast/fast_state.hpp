@@ -180,15 +180,12 @@ struct FastState {
   /// [m]: twice the largest displacement since the build, plus a margin (step.cpp); +inf, no
   /// skipping, outside a step's evaluation (docs/performance.md "Dilute lists").
   double screen_skip_bound = std::numeric_limits<double>::infinity();
-  /// Per-particle energy terms of the last evaluation (energies tracked; zeros otherwise), one
-  /// 32-byte record each. A step sums the three rates (dissipated, work, power: zero for most
-  /// particles, which an exact sum skips); the elastic energy is summed only when the energies
-  /// are asked (docs/dem.md "Energy book-keeping").
-  struct alignas(32) ParticleTerms {
-    double elastic = 0.0;     ///< energy stored in its contacts [J]
-    double dissipated = 0.0;  ///< dissipated this step [J]
-    double work = 0.0;        ///< boundary work this step (dashpot share) [J]
-    double power = 0.0;       ///< boundary power (F - F_d) . v_s [W]
+  /// Per-particle energy term of the last evaluation that outlives it (energies tracked; zero
+  /// otherwise): the elastic energy, summed only when the energies are asked. The step's
+  /// rates (dissipated, work, power) go straight into the exact sums and are not kept
+  /// (docs/dem.md "Energy book-keeping").
+  struct ParticleTerms {
+    double elastic = 0.0;  ///< energy stored in its contacts [J]
     using packed_as_bytes = void;  ///< pack.hpp: copied as its bytes (no padding)
   };
   std::vector<ParticleTerms> terms;

@@ -150,11 +150,11 @@ inline void visit_boundary(const K& kernel, RangePass& pass, BoundaryWalk& walk,
 
 /// Particle i's energy terms of this evaluation (kEnergy): its elastic energy kept for the
 /// state's sum (summed only when asked), its three rates added to the range's exact sums
-/// (the dissipation through the range's buffer),
-/// the step's only pass over them (docs/dem.md "Energy book-keeping"); a particle whose rates
-/// are all +-0 (most of a dilute phase) adds nothing, with one test.
+/// (the dissipation through the range's buffer), the step's only pass over them (docs/dem.md
+/// "Energy book-keeping"); a particle whose rates are all +-0 (most of a dilute phase) adds
+/// nothing, with one test.
 inline void store_terms(RangePass& pass, std::size_t i, const ParticleSums& sums) {
-  pass.s.terms[i] = FastState::ParticleTerms{sums.elastic, sums.dissipated, sums.work, sums.power};
+  pass.s.terms[i].elastic = sums.elastic;
   const std::uint64_t bits = std::bit_cast<std::uint64_t>(sums.dissipated) | std::bit_cast<std::uint64_t>(sums.work) |
                              std::bit_cast<std::uint64_t>(sums.power);
   if ((bits << 1) != 0) {

@@ -126,7 +126,7 @@ class Kernel final : public ForceKernel {
 
   /// The contacts entries[0, count) of a chunk (friction): springs and pair results, four or
   /// eight at a time (hertz_mindlin_x4) or one at a time, the same bits. In lanes the law also
-  /// adds the upper contacts to s.f, s.t (and, tracked, their energy terms to s.terms), counts
+  /// adds the upper contacts to s.f, s.t (and, tracked, their energy terms to the chunk's), counts
   /// them and offers them as the deepest (`sums`, OwnSums), so no booking walks the entries
   /// again; returns whether it did. One at a time, the entries keep their energies and
   /// overlaps for the booking (docs/performance.md "The law adds its own sums").

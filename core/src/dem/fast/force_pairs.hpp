@@ -218,19 +218,19 @@ inline void book_chunk(const K& kernel, RangePass& pass, std::size_t chunk, std:
 }
 
 /// The rest of particles [chunk, chunk_end) whose pair contacts the law has booked itself
-/// (OwnSums): the energy of their ended contacts and their boundaries. A particle near no
-/// boundary (most of a bed) has nothing to visit, only its empty block of records to close
-/// and its energy terms to finish (docs/performance.md "Fewer loads and stores per contact
-/// and per particle").
+/// (OwnSums, with their energy terms in `own`): the energy of their ended contacts and their
+/// boundaries. A particle near no boundary (most of a bed) has nothing to visit, only its
+/// empty block of records to close and its energy terms to finish (docs/performance.md
+/// "Fewer loads and stores per contact and per particle").
 template <class K>
 inline void chunk_boundaries(const K& kernel, RangePass& pass, std::size_t chunk, std::size_t chunk_end,
-                             [[maybe_unused]] const double* ended) {
+                             [[maybe_unused]] const OwnSums& own, [[maybe_unused]] const double* ended) {
   FastState& s = pass.s;
   for (std::size_t i = chunk; i < chunk_end; ++i) {
     ParticleSums sums;  // the boundaries' forces are added in the sum pass
     if constexpr (K::kEnergy) {
-      sums.elastic = s.terms[i].elastic;
-      sums.dissipated = s.terms[i].dissipated + ended[i - chunk];
+      sums.elastic = own.elastic[i - chunk];
+      sums.dissipated = own.dissipated[i - chunk] + ended[i - chunk];
     }
     if (pass.boundaries <= 32 && (s.near_boundaries[i] & pass.near_mask) == 0) {
       if constexpr (K::kRecords) s.next_record_first[i + 1] = static_cast<std::uint32_t>(pass.out.records.size());
@@ -257,17 +257,18 @@ inline void frictional_pair_pass(const K& kernel, RangePass& pass) {
     PairEntry* const entries = batch.entries.data();
     std::uint32_t entries_of[kChunk + 1];
     double ended[kChunk];  // kEnergy: the chunk's particles' ended contacts' energy [J]
+    double elastic[kChunk], dissipated[kChunk];  // kEnergy: their pair contacts' (OwnSums) [J]
     const std::uint32_t contact_count = list_chunk_pairs<K>(pass, chunk, chunk_end, entries, entries_of, ended);
     for (std::size_t i = chunk; i < chunk_end; ++i) {  // the law may add to them (OwnSums)
       s.f[i] = Vec3::Zero();
       s.t[i] = Vec3::Zero();
-      if constexpr (K::kEnergy) s.terms[i] = FastState::ParticleTerms{};
+      if constexpr (K::kEnergy) elastic[i - chunk] = dissipated[i - chunk] = 0.0;
     }
-    OwnSums own{&pass.out.deepest};
+    OwnSums own{&pass.out.deepest, 0, chunk, elastic, dissipated};
     const bool summed = kernel.evaluate_contacts(s, entries, contact_count, pass.dt, own);
     pass.pairs += own.pairs;
     if (summed) {
-      chunk_boundaries(kernel, pass, chunk, chunk_end, ended);
+      chunk_boundaries(kernel, pass, chunk, chunk_end, own, ended);
     } else {
       book_chunk(kernel, pass, chunk, chunk_end, entries, entries_of, ended);
     }

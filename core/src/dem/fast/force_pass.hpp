@@ -51,7 +51,7 @@ constexpr std::size_t kPollChunks = 4;
 /// One particle's sums in the first pass: force [N] and torque [N m] of its contacts (the
 /// frictional kernels' first part only: the sum pass adds the rest), and with kEnergy its
 /// contact energy terms: stored [J], dissipated this step [J], boundary work (dashpot share)
-/// [J] and boundary power [W] (FastState::ParticleTerms).
+/// [J] and boundary power [W] (store_terms keeps the first and adds the rates).
 struct ParticleSums {
   Vec3 force = Vec3::Zero();
   Vec3 torque = Vec3::Zero();

@@ -27,11 +27,15 @@ bool x8_contacts_available();
 /// force_kernel.cpp), in place of a second loop over the evaluated entries: add each contact
 /// whose entry is kContactUpper to its particle's sums s.f[i] and s.t[i] (force and r_i x
 /// force, in the order of the entries; the kernel zeroes them first) and, with kEnergy, its
-/// elastic and dissipated energy to s.terms[i], count it, and offer it as the deepest contact
-/// (overlap / smaller radius, keep_deeper).
+/// elastic and dissipated energy to elastic[i - first] and dissipated[i - first] (the chunk's
+/// arrays, zeroed by the kernel), count it, and offer it as the deepest contact (overlap /
+/// smaller radius, keep_deeper).
 struct OwnSums {
   std::optional<LargestOverlap>* deepest = nullptr;  ///< the range's deepest contact so far
   std::size_t pairs = 0;                             ///< contacts added
+  std::size_t first = 0;                             ///< the chunk's first particle
+  double* elastic = nullptr;                         ///< kEnergy: per particle of the chunk [J]
+  double* dissipated = nullptr;                      ///< kEnergy: per particle of the chunk [J]
 };
 
 /// Evaluates the contacts entries[0, count) of one
