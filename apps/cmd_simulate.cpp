@@ -196,10 +196,10 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   } else {
     engine = factory->second(scene.setup);
   }
-  // The engine holds the particles now; the scene's copy is not read again (run_scene uses
-  // the materials, boundaries and outputs): free it (about 140 bytes per particle), after
-  // counting them (every rank read all of them: no gather of the engine's).
-  const std::size_t particle_count = scene.setup.particles.size();
+  // The engine holds the particles now; the scene's copy (or this rank's share) is not read
+  // again (run_scene uses the materials, boundaries and outputs): free it (about 140 bytes per
+  // particle), after counting them (no gather of the engine's).
+  const std::size_t particle_count = scene.setup.particle_total();
   dem::Particles().swap(scene.setup.particles);
   const double setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
   std::string header = provenance_line(ranks) + "; engine " + engine->name();
@@ -388,7 +388,9 @@ void run_input(const SimulateOptions& options) {
     return;
   }
   if (options.data_length) throw InputError("--data-length applies to legacy inputs only");
-  dem::Scene scene = dem::read_scene(options.input);
+  // Several ranks: each reads and keeps a share of the particle file (docs/dem.md "Reading on
+  // every rank"); the fast engine places the shares.
+  dem::Scene scene = dem::read_scene(options.input, options.comm->size() > 1 ? options.comm : nullptr);
   run_scene_file(options, std::move(scene), read_time());
 }
 

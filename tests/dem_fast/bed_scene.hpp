@@ -1,13 +1,14 @@
 #pragma once
 // What the fast engine's command-line tests share (fast_mpi_cli_test.cpp,
 // alternate_threads_cli_test.cpp): their scratch directories, the frictional bed they run, and
-// output files compared without their header lines.
+// output files compared without their header lines, and scene edits.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "ppohdem/dem/particle_csv.hpp"
@@ -32,6 +33,18 @@ inline std::string body(const std::filesystem::path& file) {
     out += line + '\n';
   }
   return out;
+}
+
+/// The scene file with the first occurrence of `from` replaced by `to` (which must be there).
+inline void replace_in_scene(const std::filesystem::path& scene, const std::string& from, const std::string& to) {
+  std::ifstream in(scene);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  const auto at = toml.find(from);
+  ASSERT_NE(at, std::string::npos) << scene << " has no " << from;
+  toml.replace(at, from.size(), to);
+  std::ofstream(scene) << toml;
 }
 
 /// A frictional bed in a walled box: nx x ny x nz spheres of radius 1 mm on a lattice of pitch

@@ -28,6 +28,7 @@ namespace fs = std::filesystem;
 using ppohdem::test::body;
 using ppohdem::test::CommandResult;
 using ppohdem::test::run_mpi;
+using ppohdem::test::replace_in_scene;
 using ppohdem::test::write_bed;
 
 namespace {
@@ -127,18 +128,6 @@ TEST(FastEngineMpi, FrictionalBedIsBitwiseIdenticalAcrossRanksAndThreads) {
     }
   }
   }
-}
-
-/// The scene file with the first occurrence of `from` replaced by `to` (which must be there).
-void replace_in_scene(const fs::path& scene, const std::string& from, const std::string& to) {
-  std::ifstream in(scene);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string toml = text.str();
-  const auto at = toml.find(from);
-  ASSERT_NE(at, std::string::npos) << scene << " has no " << from;
-  toml.replace(at, from.size(), to);
-  std::ofstream(scene) << toml;
 }
 
 // The same bed with the linear spring-dashpot law: its pairs go through the scalar contact

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "ppohdem/comm/comm.hpp"
+#include "checks_over_ranks.hpp"
 #include "ppohdem/error.hpp"
 #include "ppohdem/io/block_file.hpp"
 
@@ -205,39 +207,57 @@ Piece parse_piece(std::string_view text, std::size_t begin, std::size_t end, std
   return piece;
 }
 
-}  // namespace
-
-namespace detail {
-
-Particles parse_particles_csv(std::string_view text, const std::string& name,
-                              const std::vector<std::string>& material_names, std::size_t pieces) {
-  // The header: the first line that is neither blank nor a comment.
+/// Where the data lines of a particle file start: its header line's number, the offset just
+/// after that line, and whether it names the material column.
+struct Header {
   std::size_t line_no = 0;
-  std::size_t data = text.size();  // where the data lines start
-  bool header_seen = false;
+  std::size_t data = 0;
   bool with_material = false;
+};
+
+/// The header of `text`, the file's first bytes (all of them if `whole`): the first line that
+/// is neither blank nor a comment. Throws on a wrong header; returns nothing when the text
+/// ends before that line does and more of the file follows (read more, then ask again).
+std::optional<Header> find_header(std::string_view text, const std::string& name,
+                                  const std::vector<std::string>& material_names, bool whole) {
+  Header h;
+  bool seen = false, cut = false;
   std::size_t at = 0;
   for_each_line(text, 0, text.size(), [&](std::string_view raw) {
-    ++line_no;
+    ++h.line_no;
     at += raw.size() + 1;
+    if (!whole && at > text.size()) {  // the prefix ends inside this line
+      cut = true;
+      return false;
+    }
     const std::string_view line = trim(raw);
     if (line.empty() || line.front() == '#') return true;
     std::string compact;
     for (char c : line) if (c != ' ' && c != '\t') compact += c;
-    with_material = compact == kMaterialHeader;
-    if (compact != kHeader && !with_material) {
-      throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "' (or with ',material'), found '" +
+    h.with_material = compact == kMaterialHeader;
+    if (compact != kHeader && !h.with_material) {
+      throw InputError(name, h.line_no, "expected header '" + std::string(kHeader) + "' (or with ',material'), found '" +
                                           std::string(line) + "'");
     }
-    if (with_material && material_names.empty()) {
-      throw InputError(name, line_no, "a 'material' column needs a scene whose materials have names "
-                                      "([material] name = ... or [[material]] entries)");
+    if (h.with_material && material_names.empty()) {
+      throw InputError(name, h.line_no, "a 'material' column needs a scene whose materials have names "
+                                        "([material] name = ... or [[material]] entries)");
     }
-    header_seen = true;
-    data = std::min(at, text.size());
+    seen = true;
+    h.data = std::min(at, text.size());
     return false;
   });
-  if (!header_seen) throw InputError(name, line_no, "expected header '" + std::string(kHeader) + "', found end of file");
+  if (seen) return h;
+  if (cut || !whole) return std::nullopt;
+  throw InputError(name, h.line_no, "expected header '" + std::string(kHeader) + "', found end of file");
+}
+
+/// The data lines text[data, end of text) parsed in `pieces` pieces at the same time: their
+/// particles in file order, their line count, and the first bad line (counted from `data`,
+/// 1-based; 0: none) with what is wrong there. Pieces after a bad one still give their
+/// particles (the repeated-id check sees them all, for any number of pieces).
+Piece parse_data_lines(std::string_view text, std::size_t data, bool with_material,
+                       const std::vector<std::string>& material_names, std::size_t pieces) {
   // The data lines in pieces cut after a '\n', parsed at the same time; a piece's lines are
   // numbered once the pieces before it are counted.
   pieces = std::max<std::size_t>(1, pieces);
@@ -259,61 +279,100 @@ Particles parse_particles_csv(std::string_view text, const std::string& name,
     const std::size_t room = k == 0 ? text.size() - data : cut[k + 1] - cut[k];
     parsed[k] = parse_piece(text, cut[k], cut[k + 1], room, with_material, material_names);
   }
-  // The first bad line in file order: a piece's error, or a repeated id (its second line).
-  std::vector<std::size_t> first_line(pieces + 1, line_no);  // the line before each piece
-  std::size_t error_line = 0;
-  const std::string* error = nullptr;
+  // The first bad line in file order, and every piece's particles after the first's (whose
+  // room holds them all unless its lines are shorter than the others').
+  Piece all;
   for (std::size_t k = 0; k < pieces; ++k) {
-    first_line[k + 1] = first_line[k] + parsed[k].lines;
-    if (parsed[k].error_line != 0) {
-      error_line = first_line[k] + parsed[k].error_line;
-      error = &parsed[k].error;
-      break;
+    if (all.error_line == 0 && parsed[k].error_line != 0) {
+      all.error_line = all.lines + parsed[k].error_line;
+      all.error = std::move(parsed[k].error);
     }
+    all.lines += parsed[k].lines;
   }
-  // The pieces' particles after the first's (whose room holds them all unless its lines are
-  // shorter than the others').
   std::size_t total = 0;
   for (const Piece& piece : parsed) total += piece.particles.size();
-  Particles particles = std::move(parsed[0].particles);
-  particles.reserve(total);
+  all.particles = std::move(parsed[0].particles);
+  all.particles.reserve(total);
   for (std::size_t k = 1; k < pieces; ++k) {
-    particles.insert(particles.end(), parsed[k].particles.begin(), parsed[k].particles.end());
+    all.particles.insert(all.particles.end(), parsed[k].particles.begin(), parsed[k].particles.end());
     Particles().swap(parsed[k].particles);
   }
-  // Repeated ids: none if they increase (most files); else sorted, the earliest second line.
+  return all;
+}
+
+/// The index of the earliest particle whose id an earlier one has (its second line), or
+/// particles.size() if the ids are distinct. Ids that increase (most files) need no search.
+std::size_t first_repeated_id(const Particles& particles) {
   bool increasing = true;
   for (std::size_t i = 1; i < particles.size() && increasing; ++i) increasing = particles[i - 1].id < particles[i].id;
-  if (!increasing) {
-    std::vector<std::pair<std::int64_t, std::size_t>> order(particles.size());
-    for (std::size_t i = 0; i < particles.size(); ++i) order[i] = {particles[i].id, i};
-    std::sort(order.begin(), order.end());
-    std::size_t repeat = particles.size();  // the index of the earliest repeat
-    for (std::size_t i = 1; i < order.size(); ++i) {
-      if (order[i].first == order[i - 1].first) {  // an id seen before, at a smaller index
-        repeat = std::min(repeat, order[i].second);
-      }
-    }
-    if (repeat < particles.size()) {
-      // Its line: counted again (an error's path), every data line before it a particle or
-      // blank or a comment.
-      std::size_t line = line_no;
-      std::size_t seen = 0;
-      for_each_line(text, data, text.size(), [&](std::string_view raw) {
-        ++line;
-        const std::string_view l = trim(raw);
-        return l.empty() || l.front() == '#' || seen++ < repeat;
-      });
-      if (error == nullptr || line < error_line) {
-        throw InputError(name, line, "id " + std::to_string(particles[repeat].id) + " appears twice");
-      }
+  if (increasing) return particles.size();
+  std::vector<std::pair<std::int64_t, std::size_t>> order(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) order[i] = {particles[i].id, i};
+  std::sort(order.begin(), order.end());
+  std::size_t repeat = particles.size();
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    if (order[i].first == order[i - 1].first) repeat = std::min(repeat, order[i].second);  // seen at a smaller index
+  }
+  return repeat;
+}
+
+/// The line of data text[data, end) that holds its particle number `index` (0-based), counted
+/// from `data` (1-based): counted again (an error's path), every data line before it a
+/// particle or blank or a comment.
+std::size_t line_of_particle(std::string_view text, std::size_t data, std::size_t index) {
+  std::size_t line = 0, seen = 0;
+  for_each_line(text, data, text.size(), [&](std::string_view raw) {
+    ++line;
+    const std::string_view l = trim(raw);
+    return l.empty() || l.front() == '#' || seen++ < index;
+  });
+  return line;
+}
+
+}  // namespace
+
+namespace detail {
+
+Particles parse_particles_csv(std::string_view text, const std::string& name,
+                              const std::vector<std::string>& material_names, std::size_t pieces) {
+  const Header header = *find_header(text, name, material_names, true);
+  Piece all = parse_data_lines(text, header.data, header.with_material, material_names, pieces);
+  // The first bad line in file order: a piece's error, or a repeated id (its second line).
+  const std::size_t repeat = first_repeated_id(all.particles);
+  if (repeat < all.particles.size()) {
+    const std::size_t line = line_of_particle(text, header.data, repeat);
+    if (all.error_line == 0 || line < all.error_line) {
+      throw InputError(name, header.line_no + line, "id " + std::to_string(all.particles[repeat].id) + " appears twice");
     }
   }
-  if (error != nullptr) throw InputError(name, error_line, *error);
-  return particles;
+  if (all.error_line != 0) throw InputError(name, header.line_no + all.error_line, all.error);
+  return std::move(all.particles);
 }
 
 }  // namespace detail
+
+namespace {
+
+/// Bytes [begin, end) of the open file `in` (fewer if it ends first).
+std::string read_bytes(std::ifstream& in, std::size_t begin, std::size_t end) {
+  std::string text(end > begin ? end - begin : 0, '\0');
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(begin));
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return text;
+}
+
+std::size_t parse_pieces_for(std::size_t bytes) {
+  std::size_t threads = 1;
+#ifdef PPOHDEM_WITH_OPENMP
+  threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+#endif
+  constexpr std::size_t kPieceBytes = std::size_t{1} << 20;  // a thread's start-up against its share
+  return std::min(threads, bytes / kPieceBytes + 1);
+}
+
+}  // namespace
 
 Particles read_particles_csv(const std::filesystem::path& file,
                              const std::vector<std::string>& material_names) {
@@ -332,12 +391,89 @@ Particles read_particles_csv(const std::filesystem::path& file,
   } else {  // not a regular file (a pipe): read to its end
     text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  std::size_t threads = 1;
-#ifdef PPOHDEM_WITH_OPENMP
-  threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
-#endif
-  constexpr std::size_t kPieceBytes = std::size_t{1} << 20;  // a thread's start-up against its share
-  return detail::parse_particles_csv(text, name, material_names, std::min(threads, text.size() / kPieceBytes + 1));
+  return detail::parse_particles_csv(text, name, material_names, parse_pieces_for(text.size()));
+}
+
+SharedParticles read_particles_csv(const std::filesystem::path& file, const std::vector<std::string>& material_names,
+                                   const Comm& comm) {
+  SharedParticles out;
+  out.share.comm = &comm;
+  const std::string name = file.string();
+  const auto ranks = static_cast<std::size_t>(comm.size()), me = static_cast<std::size_t>(comm.rank());
+  std::error_code size_error;
+  const auto file_size = std::filesystem::file_size(file, size_error);
+  std::ifstream in(file, std::ios::binary);
+  std::optional<PlacedError> unopened;  // on any rank: all stop (collectives follow)
+  if (!in) unopened = PlacedError{0, InputError(name, 0, "cannot open particle file (rank " + std::to_string(me) + ")")};
+  throw_earliest_error(comm, unopened);
+  if (size_error || ranks == 1) {  // one rank, or not a regular file (a pipe): all of it, then a share of it
+    Particles all = read_particles_csv(file, material_names);
+    out.share.total = all.size();
+    out.share.first = all.size() / ranks * me + std::min(me, all.size() % ranks);
+    const std::size_t count = all.size() / ranks + (me < all.size() % ranks ? 1 : 0);
+    if (ranks == 1) out.particles = std::move(all);
+    else out.particles.assign(all.begin() + static_cast<std::ptrdiff_t>(out.share.first),
+                              all.begin() + static_cast<std::ptrdiff_t>(out.share.first + count));
+    return out;
+  }
+  const auto size = static_cast<std::size_t>(file_size);
+  // The header, from the file's first bytes (every rank reads them: they are few, and a bad
+  // header throws the same error on every rank).
+  std::optional<Header> header;
+  for (std::size_t want = std::size_t{64} << 10; !header; want *= 4) {
+    const std::size_t asked = std::min(want, size);
+    const std::string prefix = read_bytes(in, 0, asked);
+    header = find_header(prefix, name, material_names, asked == size || prefix.size() < asked);
+  }
+  // This rank's share of the data lines: from the first line start at or after its nominal
+  // first byte to the next rank's (docs/dem.md "Reading on every rank").
+  const std::size_t data = header->data;
+  auto line_start = [&](std::size_t k) {  // of rank k's share; the file's end for k = ranks
+    if (k >= ranks) return size;
+    const std::size_t nominal = data + (size - data) / ranks * k;
+    if (nominal <= data) return data;
+    for (std::size_t at = nominal - 1; at < size;) {  // the '\n' that ends the line before
+      const std::string block = read_bytes(in, at, std::min(size, at + (std::size_t{64} << 10)));
+      if (block.empty()) break;
+      if (const std::size_t nl = block.find('\n'); nl != std::string::npos) return at + nl + 1;
+      at += block.size();
+    }
+    return size;
+  };
+  const std::size_t begin = line_start(me), end = std::max(begin, line_start(me + 1));
+  const std::string text = read_bytes(in, begin, end);
+  Piece mine = parse_data_lines(text, 0, header->with_material, material_names, parse_pieces_for(text.size()));
+  // The lines and particles of the shares before this one number its lines and particles.
+  std::vector<double> counts(2 * ranks, 0.0);  // exact: counts below 2^53
+  counts[me] = static_cast<double>(mine.lines);
+  counts[ranks + me] = static_cast<double>(mine.particles.size());
+  counts = comm.sum_each_over_ranks(std::move(counts));
+  std::size_t lines_before = 0;
+  for (std::size_t k = 0; k < ranks; ++k) {
+    if (k < me) {
+      lines_before += static_cast<std::size_t>(counts[k]);
+      out.share.first += static_cast<std::size_t>(counts[ranks + k]);
+    }
+    out.share.total += static_cast<std::size_t>(counts[ranks + k]);
+  }
+  // The first bad line in file order over all the shares: a line that does not parse, or a
+  // repeated id (its second line).
+  std::optional<PlacedError> error;
+  if (mine.error_line != 0) {
+    const std::size_t line = header->line_no + lines_before + mine.error_line;
+    error = PlacedError{line, InputError(name, line, mine.error)};
+  }
+  const std::size_t repeat = first_repeated_id(comm, mine.particles, out.share.first);
+  if (repeat != kNoRepeat && repeat >= out.share.first && repeat - out.share.first < mine.particles.size()) {
+    const std::size_t index = repeat - out.share.first;
+    const std::size_t line = header->line_no + lines_before + line_of_particle(text, 0, index);
+    if (!error || line < error->place) {
+      error = PlacedError{line, InputError(name, line, "id " + std::to_string(mine.particles[index].id) + " appears twice")};
+    }
+  }
+  throw_earliest_error(comm, error);
+  out.particles = std::move(mine.particles);
+  return out;
 }
 
 void write_particles_csv(const std::filesystem::path& file, const Particles& particles,

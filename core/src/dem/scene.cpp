@@ -5,6 +5,7 @@
 #include "toml_hardened.hpp"  // toml++, safe on malformed input (see there)
 
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <algorithm>
 #include <initializer_list>
@@ -14,6 +15,7 @@
 #include <optional>
 #include <string_view>
 
+#include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/particle_csv.hpp"
 #include "ppohdem/io/legacy_inputs.hpp"
 #include "ppohdem/io/vtk_structured_points.hpp"
@@ -27,9 +29,31 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// Every particle's radius in file order, on every rank: of a shared setup, gathered (the
+/// mean radius a linear law's collision time needs: summed in file order, the same bits as
+/// on one rank).
+std::vector<double> all_radii(const SimulationSetup& s) {
+  std::vector<double> radii;
+  if (!s.shared()) {
+    for (const Particle& p : s.particles) radii.push_back(p.radius);
+    return radii;
+  }
+  Bytes mine(s.particles.size() * sizeof(double));
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    std::memcpy(mine.data() + i * sizeof(double), &s.particles[i].radius, sizeof(double));
+  }
+  for (const Bytes& b : s.share.comm->allgather(mine)) {  // in rank order: file order
+    const std::size_t at = radii.size();
+    radii.resize(at + b.size() / sizeof(double));
+    if (!b.empty()) std::memcpy(radii.data() + at, b.data(), b.size());
+  }
+  return radii;
+}
+
 class SceneParser {
  public:
-  explicit SceneParser(fs::path file) : file_(std::move(file)), name_(file_.string()), base_dir_(file_.parent_path()) {}
+  explicit SceneParser(fs::path file, const Comm* comm = nullptr)
+      : file_(std::move(file)), name_(file_.string()), base_dir_(file_.parent_path()), comm_(comm) {}
   /// A scene given as text (read_scene_text): `name` stands for the file in messages.
   SceneParser(std::string text, std::string name, fs::path base_dir, std::optional<Particles> particles)
       : name_(std::move(name)), base_dir_(std::move(base_dir)), text_(std::move(text)),
@@ -107,10 +131,11 @@ class SceneParser {
         s.law = LinearSpringDashpot::from_stiffness(*k_n, s.material.restitution, s.material.friction, ratio);
       } else {
         // Reference pair: two particles of the mean radius (of the first material), m* = m(R_mean)/2.
+        const std::vector<double> radii = all_radii(s);
         double r_sum = 0.0;
-        for (const Particle& p : s.particles) r_sum += p.radius;
-        double r_mean = s.particles.empty() ? 1.0 : r_sum / static_cast<double>(s.particles.size());
-        if (s.particles.empty() && !scene.inserts.empty()) r_mean = mean_insert_radius(scene.inserts);  // a fill
+        for (const double r : radii) r_sum += r;
+        double r_mean = radii.empty() ? 1.0 : r_sum / static_cast<double>(radii.size());
+        if (radii.empty() && !scene.inserts.empty()) r_mean = mean_insert_radius(scene.inserts);  // a fill
         s.law = LinearSpringDashpot::from_collision_time(*t_c, s.material.mass(r_mean) / 2.0,
                                                          s.material.restitution, s.material.friction, ratio);
       }
@@ -391,7 +416,14 @@ class SceneParser {
                                (std::string_view(key) == "material" ? " (the file's material column gives it)" : ""));
         }
       }
-      s.particles = read_particles_csv(relative_to_scene(require_string(t, "particles", "file")), s.material_names);
+      const fs::path file = relative_to_scene(require_string(t, "particles", "file"));
+      if (comm_ != nullptr) {
+        SharedParticles mine = read_particles_csv(file, s.material_names, *comm_);
+        s.particles = std::move(mine.particles);
+        s.share = mine.share;
+      } else {
+        s.particles = read_particles_csv(file, s.material_names);
+      }
       return;
     }
     GeneratorSpec spec;
@@ -734,6 +766,7 @@ class SceneParser {
       if (!cells) fail(&t, "[object] mesh = needs cells = [nx, ny, nz]");
       double r_max = 0.0;
       for (const Particle& p : s.particles) r_max = std::max(r_max, p.radius);
+      if (s.shared()) r_max = s.share.comm->max_over_ranks(r_max);  // exact: a maximum
       for (const Particle& p : s.insert_probes) r_max = std::max(r_max, p.radius);  // particles to come
       const double margin = optional_number(t, "object", "margin").value_or(2.0 * r_max);
       if (!(margin >= 0.0)) fail(t.get("margin"), "[object] margin must be >= 0 m");
@@ -864,13 +897,14 @@ class SceneParser {
   fs::path base_dir_;
   std::optional<std::string> text_;
   std::optional<Particles> given_particles_;
+  const Comm* comm_ = nullptr;  ///< the ranks that share the particle file's parse
 };
 
 }  // namespace
 
-Scene read_scene(const std::filesystem::path& file) {
+Scene read_scene(const std::filesystem::path& file, const Comm* comm) {
   if (!fs::exists(file)) throw InputError(file.string(), 0, "scene file does not exist");
-  return SceneParser(file).parse();
+  return SceneParser(file, comm).parse();
 }
 
 Scene read_scene_text(std::string text, const std::string& name, const std::filesystem::path& base_dir,

@@ -5,8 +5,11 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <unordered_set>
 
+#include "checks_over_ranks.hpp"
+#include "ppohdem/comm/comm.hpp"
 #include "ppohdem/error.hpp"
 #include "ppohdem/units.hpp"
 
@@ -77,6 +80,11 @@ TimeStepLimit hooke_time_step_limit(const SimulationSetup& setup, const LinearSp
     const std::size_t k = p.material < count ? p.material : 0;
     r_min[k] = std::min(r_min[k], p.radius);
   }
+  if (setup.shared()) {  // the minima over all the shares (exact: minima)
+    for (double& r : r_min) r = -r;
+    r_min = setup.share.comm->max_each_over_ranks(std::move(r_min));
+    for (double& r : r_min) r = -r;
+  }
   double half_period = std::numeric_limits<double>::infinity();
   auto consider = [&](std::size_t a, std::size_t b, const PairProperties& pair) {
     const LinearSpringDashpot l = law.for_pair(setup.material_at(a), setup.material_at(b), 1.0, 0.0);
@@ -123,7 +131,13 @@ TimeStepLimit time_step_limit(const SimulationSetup& setup) {
     all.insert_probes.clear();
     return time_step_limit(all);
   }
-  if (setup.particles.empty()) return {std::numeric_limits<double>::infinity(), "no particles"};
+  // A shared setup: each rank's minima, then the minima over the ranks (exact: the same as
+  // over all the particles on one rank).
+  const Comm* comm = setup.shared() ? setup.share.comm : nullptr;
+  auto min_over_ranks = [comm](double v) { return comm != nullptr ? -comm->max_over_ranks(-v) : v; };
+  const bool none = comm != nullptr ? comm->max_over_ranks(setup.particles.empty() ? 0.0 : 1.0) == 0.0
+                                    : setup.particles.empty();
+  if (none) return {std::numeric_limits<double>::infinity(), "no particles"};
   // Mass and Rayleigh time grow monotonically with R (also in floating point: products and
   // quotients of positive numbers), so with one material these minima are those of R_min.
   const auto material_of = [&](const Particle& p) -> const Material& {
@@ -134,6 +148,7 @@ TimeStepLimit time_step_limit(const SimulationSetup& setup) {
   if (linear) {
     double m_min = std::numeric_limits<double>::infinity();
     for (const Particle& p : setup.particles) m_min = std::min(m_min, material_of(p).mass(p.radius));
+    m_min = min_over_ranks(m_min);
     const double m_eff = m_min / 2.0;  // lightest pair, m* = m/2
     const double half_period = units::kPi * std::sqrt(m_eff / linear->normal_stiffness());
     return {0.2 * half_period, "0.2 * pi sqrt(m*/k_n) = 0.2 * " + seconds(half_period) +
@@ -141,6 +156,7 @@ TimeStepLimit time_step_limit(const SimulationSetup& setup) {
   }
   double t_r = std::numeric_limits<double>::infinity();
   for (const Particle& p : setup.particles) t_r = std::min(t_r, rayleigh_time(p.radius, material_of(p)));
+  t_r = min_over_ranks(t_r);
   return {0.2 * t_r, "0.2 * Rayleigh time " + seconds(t_r) +
                          (setup.material_count() > 1 ? " of the fastest particle (size and material)"
                                                      : " of the smallest particle")};
@@ -154,22 +170,30 @@ void validate_setup(const SimulationSetup& setup) {
   }
   if (!setup.gravity.allFinite()) fail("[simulation] gravity must be finite");
   validate_materials(setup);
+  // The first bad particle in file order; of a shared setup, over all the shares (every rank
+  // throws the same error).
+  const std::size_t first = setup.shared() ? setup.share.first : 0;
+  const std::size_t repeat = setup.shared() ? first_repeated_id(*setup.share.comm, setup.particles, first) : kNoRepeat;
   std::unordered_set<std::int64_t> ids;
-  for (std::size_t i = 0; i < setup.particles.size(); ++i) {
+  std::optional<PlacedError> bad;
+  for (std::size_t i = 0; i < setup.particles.size() && !bad; ++i) {
     const Particle& p = setup.particles[i];
-    const std::string record = "particle " + std::to_string(i) + " (id " + std::to_string(p.id) + "): ";
+    const std::string record = "particle " + std::to_string(first + i) + " (id " + std::to_string(p.id) + "): ";
+    std::string what;
     if (!(p.radius > 0.0) || !std::isfinite(p.radius)) {
-      fail(record + "radius must be > 0 m, got " + std::to_string(p.radius));
+      what = "radius must be > 0 m, got " + std::to_string(p.radius);
+    } else if (!p.position.allFinite() || !p.velocity.allFinite() || !p.angular_velocity.allFinite()) {
+      what = "position, velocity and angular velocity must be finite";
+    } else if (setup.shared() ? first + i == repeat : !ids.insert(p.id).second) {
+      what = "id repeated";
+    } else if (p.material >= setup.material_count()) {
+      what = "material index " + std::to_string(p.material) + ", the scene has " +
+             std::to_string(setup.material_count()) + " material(s)";
     }
-    if (!p.position.allFinite() || !p.velocity.allFinite() || !p.angular_velocity.allFinite()) {
-      fail(record + "position, velocity and angular velocity must be finite");
-    }
-    if (!ids.insert(p.id).second) fail(record + "id repeated");
-    if (p.material >= setup.material_count()) {
-      fail(record + "material index " + std::to_string(p.material) + ", the scene has " +
-           std::to_string(setup.material_count()) + " material(s)");
-    }
+    if (!what.empty()) bad = PlacedError{first + i, InputError(where, 0, record + what)};
   }
+  if (setup.shared()) throw_earliest_error(*setup.share.comm, bad);
+  if (bad) throw bad->error;
   const TimeStepLimit limit = time_step_limit(setup);
   if (setup.dt > limit.limit && !setup.force_time_step) {
     char buf[64];
@@ -177,17 +201,29 @@ void validate_setup(const SimulationSetup& setup) {
     fail("[simulation] dt = " + seconds(setup.dt) + " is above the stability limit " + buf +
          " (" + limit.reason + "); use a smaller dt, or --force to run anyway");
   }
-  if (!setup.allow_initial_overlap) {
+  if (!setup.allow_initial_overlap && !setup.shared()) {  // shared: the engine checks, once it has placed them
     const auto pairs = overlapping_pairs(setup.particles, 0.01);
     if (!pairs.empty()) {
-      const Particle& a = setup.particles[pairs.front().first];
-      const Particle& b = setup.particles[pairs.front().second];
-      const double overlap = a.radius + b.radius - (a.position - b.position).norm();
-      fail(std::to_string(pairs.size()) + " particle pair(s) overlap by more than 1% of the "
-           "smaller radius, e.g. ids " + std::to_string(a.id) + " and " + std::to_string(b.id) +
-           " by " + std::to_string(overlap) + " m; set [particles] allow_overlap = true to accept");
+      // The pair with the smallest ids (as over ranks: fast/initial_overlaps.cpp).
+      auto ids_of = [&](const std::pair<std::size_t, std::size_t>& q) {
+        const std::int64_t a = setup.particles[q.first].id, b = setup.particles[q.second].id;
+        return std::pair(std::min(a, b), std::max(a, b));
+      };
+      const auto example = *std::min_element(pairs.begin(), pairs.end(), [&](const auto& x, const auto& y) {
+        return ids_of(x) < ids_of(y);
+      });
+      const Particle& a = setup.particles[example.first];
+      const Particle& b = setup.particles[example.second];
+      throw a.id < b.id ? overlap_error(where, pairs.size(), a, b) : overlap_error(where, pairs.size(), b, a);
     }
   }
+}
+
+InputError overlap_error(const std::string& source, std::size_t count, const Particle& a, const Particle& b) {
+  const double overlap = a.radius + b.radius - (a.position - b.position).norm();
+  return InputError(source, 0, std::to_string(count) + " particle pair(s) overlap by more than 1% of the "
+                    "smaller radius, e.g. ids " + std::to_string(a.id) + " and " + std::to_string(b.id) +
+                    " by " + std::to_string(overlap) + " m; set [particles] allow_overlap = true to accept");
 }
 
 }  // namespace ppohdem::dem

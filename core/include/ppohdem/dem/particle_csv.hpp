@@ -16,6 +16,11 @@
 #include <vector>
 
 #include "ppohdem/dem/particle.hpp"
+#include "ppohdem/dem/simulation_setup.hpp"
+
+namespace ppohdem {
+class Comm;
+}
 
 namespace ppohdem::dem {
 
@@ -26,6 +31,20 @@ namespace ppohdem::dem {
 /// no names at all (a scene without named materials).
 Particles read_particles_csv(const std::filesystem::path& file,
                              const std::vector<std::string>& material_names = {});
+
+/// A rank's share of a particle file, and where it sits in the file.
+struct SharedParticles {
+  Particles particles;  ///< in file order
+  ParticleShare share;  ///< comm, the file index of the first, and the file's count
+};
+
+/// The same file read by every rank of `comm`, each keeping a share (docs/dem.md "Reading on
+/// every rank"): a rank reads and parses, on its threads, the data lines that start in its 1/P
+/// of the bytes, and keeps those particles. Every rank throws the same InputError at the same
+/// first bad line in file order, a repeated id in another share included. Collective. A file
+/// that is not a regular file (a pipe) is read whole by every rank, which keeps a 1/P of it.
+SharedParticles read_particles_csv(const std::filesystem::path& file, const std::vector<std::string>& material_names,
+                                   const Comm& comm);
 
 namespace detail {
 /// read_particles_csv's parse of a file's text `text` (named `name` in errors), its data lines

@@ -65,6 +65,10 @@
 #include "ppohdem/dem/run_diagnostics.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
 
+namespace ppohdem {
+class Comm;
+}
+
 namespace ppohdem::dem {
 
 struct OutputSpec {
@@ -102,8 +106,10 @@ struct Scene {
 };
 
 /// Reads and checks a scene; throws InputError(file, line, ...) naming the key. Does not run
-/// validate_setup (the engine does, so --force can still be applied).
-Scene read_scene(const std::filesystem::path& file);
+/// validate_setup (the engine does, so --force can still be applied). With `comm` (collective),
+/// a particle file is read in shares: each rank keeps its own (SimulationSetup::share), which
+/// only the fast engine takes (docs/dem.md "Reading on every rank").
+Scene read_scene(const std::filesystem::path& file, const Comm* comm = nullptr);
 
 /// The same from TOML text (the Python module's Scene.from_dict): `name` stands for the file
 /// in error messages and relative paths resolve against `base_dir`. With `particles`, those

@@ -13,6 +13,11 @@
 #include "ppohdem/dem/contact_law.hpp"
 #include "ppohdem/dem/material.hpp"
 #include "ppohdem/dem/particle.hpp"
+#include "ppohdem/error.hpp"
+
+namespace ppohdem {
+class Comm;
+}
 
 namespace ppohdem::dem {
 
@@ -31,6 +36,16 @@ struct MaterialPairRule {
 /// At most this many materials in a scene (the pair-law table has count^2 entries).
 inline constexpr std::size_t kMaxMaterials = 64;
 
+/// Where a rank's `particles` sit when several ranks read one particle file and each keeps a
+/// share (read_scene with a Comm; docs/dem.md "Reading on every rank"): its particles are the
+/// file's particles [first, first + particles.size()) of `total`, in file order. Without
+/// `comm`, `particles` are all of them.
+struct ParticleShare {
+  const Comm* comm = nullptr;  ///< the ranks whose shares make up the particles
+  std::size_t first = 0;       ///< file index of this rank's first particle
+  std::size_t total = 0;       ///< particles over all the ranks
+};
+
 struct SimulationSetup {
   double dt = 0.0;                 ///< time step [s]
   Vec3 gravity = Vec3::Zero();     ///< g [m/s^2]
@@ -47,6 +62,7 @@ struct SimulationSetup {
   /// a one-material scene does).
   std::vector<std::int32_t> boundary_materials;
   Particles particles;
+  ParticleShare share;  ///< set: `particles` is this rank's share of the file's (above)
   /// Particles still to come (scene [[insert]]: one per size extreme and material,
   /// insertion.hpp insert_size_probes): counted in time_step_limit only.
   Particles insert_probes;
@@ -63,6 +79,10 @@ struct SimulationSetup {
   std::string source;              ///< where it came from (scene file), for messages
 
   std::size_t material_count() const { return 1 + more_materials.size(); }
+  /// Each rank holds a share of the particles (functions taking the setup are then collective).
+  bool shared() const { return share.comm != nullptr; }
+  /// The particles over all the ranks.
+  std::size_t particle_total() const { return shared() ? share.total : particles.size(); }
   /// Material k (0: `material`); k < material_count().
   const Material& material_at(std::size_t k) const { return k == 0 ? material : more_materials[k - 1]; }
   /// "material 'steel' (1)" or "material 1", for messages.
@@ -91,8 +111,15 @@ TimeStepLimit time_step_limit(const SimulationSetup& setup);
 /// several materials: Hertz-Mindlin law, at most kMaxMaterials, every particle's and
 /// boundary's material index in range, pair rules between two different known materials;
 /// dt <= time_step_limit (unless force_time_step; the message gives the limit); no pair
-/// overlapping by more than 1% of the smaller radius (unless allow_initial_overlap).
+/// overlapping by more than 1% of the smaller radius (unless allow_initial_overlap), the message
+/// naming the pair with the smallest ids. A shared setup (collective): every rank throws the
+/// same error, the first particle in file order; the overlaps are left to the engine, which
+/// places the shares first (overlap_error).
 void validate_setup(const SimulationSetup& setup);
+
+/// The error validate_setup gives for `count` overlapping pairs, `a` and `b` (ids a < b) the
+/// pair with the smallest ids.
+InputError overlap_error(const std::string& source, std::size_t count, const Particle& a, const Particle& b);
 
 /// Pairs (index i < index j) overlapping by more than `fraction` of the smaller radius.
 /// Cells of side 2 R_max (overlapping_pairs.cpp): O(N) for finite positions and fraction >= 0.

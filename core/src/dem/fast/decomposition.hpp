@@ -30,17 +30,10 @@ class Decomposition {
  public:
   Decomposition() = default;
   /// `ranks` bricks over the bounding box of `centres` (the same on every rank).
-  Decomposition(int ranks, const std::vector<Vec3>& centres) : ranks_(ranks) {
-    lo_ = Vec3::Zero();
-    Vec3 hi = Vec3::Zero();
-    if (!centres.empty()) {
-      lo_ = centres.front();
-      hi = centres.front();
-      for (const Vec3& x : centres) {
-        lo_ = lo_.cwiseMin(x);
-        hi = hi.cwiseMax(x);
-      }
-    }
+  Decomposition(int ranks, const std::vector<Vec3>& centres)
+      : Decomposition(ranks, box_of(centres).first, box_of(centres).second) {}
+  /// `ranks` bricks over the box [lo, hi].
+  Decomposition(int ranks, const Vec3& lo, const Vec3& hi) : ranks_(ranks), lo_(lo) {
     const Vec3 extent = hi - lo_;
     std::vector<int> factors;
     for (int n = ranks, f = 2; n > 1;) {
@@ -138,6 +131,17 @@ class Decomposition {
   }
 
  private:
+  /// The smallest box holding `centres` (zero: none).
+  static std::pair<Vec3, Vec3> box_of(const std::vector<Vec3>& centres) {
+    if (centres.empty()) return {Vec3::Zero(), Vec3::Zero()};
+    Vec3 lo = centres.front(), hi = centres.front();
+    for (const Vec3& x : centres) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    return {lo, hi};
+  }
+
   struct Box {
     std::array<double, 3> lower, upper;
   };

@@ -245,6 +245,15 @@ struct FastEngine::Impl {
 
   /// Keeps the particles this rank owns (all of them on one rank).
   void load_particles(const Particles& particles);
+  /// The same from this rank's share of the file (SimulationSetup::share; collective): the
+  /// bricks from all the shares, then the shares migrate to their owners.
+  void load_share(const Particles& particles, const ParticleShare& share);
+  /// Empties every per-particle array and what was built from them (load_particles, load_share).
+  void clear_particles();
+  /// Appends a particle as owned, with its construction index.
+  void append_owned(const Particle& p, std::size_t original);
+  /// After the owned particles are in place: the empty lists and exchanges they start from.
+  void reset_lists();
 
   /// h := what the owned particles carry across the build (History); h's storage is reused.
   void take_history(History& h) const;
@@ -258,6 +267,11 @@ struct FastEngine::Impl {
   /// The bricks of the particles given (the whole system, on every rank): equal bricks and,
   /// with balance on, the bisection; and the peers.
   void decompose_whole(const Particles& particles);
+
+  /// Initial overlaps above 1 % of the smaller radius among the owned particles and their
+  /// ghosts (a shared setup's check, after the first list build; collective): every rank
+  /// throws validate_setup's error (initial_overlaps.cpp).
+  void check_initial_overlaps(const std::string& source) const;
 
   /// Load balance at a list build, after the migration: if the most loaded rank owns more
   /// than balance_threshold times the mean, re-cut by bisection of the owned particles

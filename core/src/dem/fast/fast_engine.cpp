@@ -10,6 +10,9 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   (void)simd_level();  // a bad PPOHDEM_SIMD is reported here, not inside the parallel loops
   Impl& m = *impl_;
   if (options.comm != nullptr) m.comm = options.comm;
+  if (setup.shared() && setup.share.comm != options.comm) {
+    throw std::invalid_argument("FastEngine: a setup shared over ranks needs FastOptions::comm = its share's comm");
+  }
   m.s.dt = setup.dt;
   m.energy_balance = setup.energy_balance;
   m.s.gravity = setup.gravity;
@@ -29,6 +32,7 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   m.s.friction = std::visit([&](const auto& law) { return PairLaws(setup, law).any_friction(); }, setup.law);
   m.kernel = make_force_kernel(setup, options.vector_contacts);
   for (auto& p : setup.particles) m.r_max = std::max(m.r_max, p.radius);
+  if (setup.shared()) m.r_max = m.comm->max_over_ranks(m.r_max);  // exact: a maximum
   m.skin = options.skin_fraction * m.r_max;
   m.skip_far_objects = options.skip_far_objects;
   m.skip_apart_slots = options.skip_apart_slots;
@@ -41,10 +45,13 @@ FastEngine::FastEngine(const SimulationSetup& setup, FastOptions options) : impl
   m.balance_threshold = options.balance_threshold;
   // Only the materials are kept (a copy of the setup would hold a second copy of the particles).
   for (std::size_t k = 0; k < setup.material_count(); ++k) m.materials.push_back(setup.material_at(k));
-  m.load_particles(setup.particles);
+  if (setup.shared()) m.load_share(setup.particles, setup.share);
+  else m.load_particles(setup.particles);
   std::fill(m.s.f.begin(), m.s.f.end(), Vec3::Zero());  // the first evaluation sets them
   std::fill(m.s.t.begin(), m.s.t.end(), Vec3::Zero());
   m.build_lists();
+  // A shared setup's overlaps span the shares: checked once the owners hold their ghosts.
+  if (setup.shared() && !setup.allow_initial_overlap) m.check_initial_overlaps(setup.source);
   m.evaluate_forces(0.0);  // a(0); no history increment at start-up
 }
 

@@ -4,39 +4,37 @@
 
 namespace ppohdem::dem::fast {
 
-void FastEngine::Impl::load_particles(const Particles& particles) {
-  auto& q = s;
+void FastEngine::Impl::clear_particles() {
   kick_cached = false;
   drift_over_ranks.reset();
   energies_cache.reset();
   restored_elastic.reset();
-  for_each_particle_array(q, [](auto& a) { a.clear(); });
-  total = particles.size();
-  r_max = 0.0;
-  for (const Particle& p : particles) r_max = std::max(r_max, p.radius);
-  if (distributed()) decompose_whole(particles);
-  const int me = comm->rank();
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const Particle& p = particles[i];
-    if (distributed() && decomposition.owner(p.position, p.id) != me) continue;
-    q.id.push_back(p.id);
-    q.original.push_back(static_cast<std::uint32_t>(i));
-    q.x.push_back(p.position);
-    q.v.push_back(p.velocity);
-    q.w.push_back(p.angular_velocity);
-    q.f.push_back(p.force);
-    q.t.push_back(p.torque);
-    q.pv.push_back(p.velocity);
-    q.pw.push_back(p.angular_velocity);
-    q.x_build.push_back(p.position);
-    q.radius.push_back(p.radius);
-    const Material& mat = materials[p.material];
-    q.material.push_back(p.material);
-    q.mass.push_back(mat.mass(p.radius));
-    q.inertia.push_back(mat.moment_of_inertia(p.radius));
-    q.escaped_via.push_back(0);
-    q.terms.emplace_back();
-  }
+  for_each_particle_array(s, [](auto& a) { a.clear(); });
+}
+
+void FastEngine::Impl::append_owned(const Particle& p, std::size_t original) {
+  auto& q = s;
+  q.id.push_back(p.id);
+  q.original.push_back(static_cast<std::uint32_t>(original));
+  q.x.push_back(p.position);
+  q.v.push_back(p.velocity);
+  q.w.push_back(p.angular_velocity);
+  q.f.push_back(p.force);
+  q.t.push_back(p.torque);
+  q.pv.push_back(p.velocity);
+  q.pw.push_back(p.angular_velocity);
+  q.x_build.push_back(p.position);
+  q.radius.push_back(p.radius);
+  const Material& mat = materials[p.material];
+  q.material.push_back(p.material);
+  q.mass.push_back(mat.mass(p.radius));
+  q.inertia.push_back(mat.moment_of_inertia(p.radius));
+  q.escaped_via.push_back(0);
+  q.terms.emplace_back();
+}
+
+void FastEngine::Impl::reset_lists() {
+  auto& q = s;
   const std::size_t n = q.id.size();
   q.owned = n;
   q.first.assign(n + 1, 0);
@@ -54,6 +52,56 @@ void FastEngine::Impl::load_particles(const Particles& particles) {
   halo_send.assign(peers.size(), {});
   halo_recv.assign(peers.size(), 0);
   out_valid = false;
+}
+
+void FastEngine::Impl::load_particles(const Particles& particles) {
+  clear_particles();
+  total = particles.size();
+  r_max = 0.0;
+  for (const Particle& p : particles) r_max = std::max(r_max, p.radius);
+  if (distributed()) decompose_whole(particles);
+  const int me = comm->rank();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Particle& p = particles[i];
+    if (distributed() && decomposition.owner(p.position, p.id) != me) continue;
+    append_owned(p, i);
+  }
+  reset_lists();
+}
+
+void FastEngine::Impl::load_share(const Particles& particles, const ParticleShare& share) {
+  clear_particles();
+  total = share.total;
+  r_max = 0.0;
+  for (const Particle& p : particles) r_max = std::max(r_max, p.radius);
+  r_max = comm->max_over_ranks(r_max);  // exact: a maximum
+  for (std::size_t i = 0; i < particles.size(); ++i) append_owned(particles[i], share.first + i);
+  s.owned = s.id.size();
+  // The bricks of all the shares: equal ones over the box of every centre (minima and maxima:
+  // the same bits as from all the centres on one rank), and the bisection of the shares'
+  // centres (collective, the one a re-cut makes).
+  if (!equal_bricks_made) {
+    std::vector<double> box(6, -std::numeric_limits<double>::infinity());  // -lo, hi
+    for (const Vec3& x : s.x) {
+      for (int a = 0; a < 3; ++a) {
+        box[static_cast<std::size_t>(a)] = std::max(box[static_cast<std::size_t>(a)], -x[a]);
+        box[static_cast<std::size_t>(3 + a)] = std::max(box[static_cast<std::size_t>(3 + a)], x[a]);
+      }
+    }
+    box = comm->max_each_over_ranks(std::move(box));
+    if (total == 0) box.assign(6, 0.0);  // as Decomposition's empty box
+    equal_bricks = Decomposition(comm->size(), Vec3(-box[0], -box[1], -box[2]), Vec3(box[3], box[4], box[5]));
+    equal_bricks_made = true;
+  }
+  decomposition = balance == FastOptions::Balance::kBisection
+                      ? Decomposition::bisection(comm->size(), s.x, s.id, s.owned, *comm)
+                      : equal_bricks;
+  update_peers();
+  History none;  // nothing carried yet
+  none.first.assign(s.owned + 1, 0);
+  none.record_first.assign(s.owned + 1, 0);
+  migrate(none, /*global=*/true);
+  reset_lists();
 }
 
 void FastEngine::Impl::migrate(History& h, bool global) {
