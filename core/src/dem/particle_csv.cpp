@@ -476,18 +476,23 @@ SharedParticles read_particles_csv(const std::filesystem::path& file, const std:
   return out;
 }
 
-void write_particles_csv(const std::filesystem::path& file, const Particles& particles,
-                         const std::string& header_comment, const std::vector<std::string>& material_names) {
-  // Blocks past the page cache (io/block_file.hpp; docs/performance.md "I/O: particle files").
-  BlockFileWriter writer(file);
-  const bool with_material = material_names.size() > 1;
+namespace {
+
+/// The header lines of a particle file.
+std::string header_text(const std::string& header_comment, bool with_material) {
   std::string header;
   if (!header_comment.empty()) header += "# " + header_comment + '\n';
   header += with_material ? kMaterialHeader : kHeader;
   header += '\n';
-  writer.write(header.data(), header.size());
-  // Rounds of one batch per thread, formatted at the same time and written in order: the
-  // bytes of one thread's loop (docs/performance.md "I/O: particle files").
+  return header;
+}
+
+/// The particles' lines, formatted in rounds of one batch per thread at the same time and
+/// given to `emit` in order: the bytes of one thread's loop (docs/performance.md "I/O: particle
+/// files").
+template <class Emit>
+void format_lines(const Particles& particles, const std::vector<std::string>& material_names, Emit&& emit) {
+  const bool with_material = material_names.size() > 1;
   constexpr std::size_t kBatch = 8192;  // particles, about 0.8 MiB of text
   const std::size_t n = particles.size();
   std::size_t threads = 1;
@@ -524,7 +529,39 @@ void write_particles_csv(const std::filesystem::path& file, const Particles& par
         text += '\n';
       }
     }
-    for (const std::string& text : texts) writer.write(text.data(), text.size());
+    for (const std::string& text : texts) emit(text);
+  }
+}
+
+}  // namespace
+
+void write_particles_csv(const std::filesystem::path& file, const Particles& particles,
+                         const std::string& header_comment, const std::vector<std::string>& material_names) {
+  // Blocks past the page cache (io/block_file.hpp; docs/performance.md "I/O: particle files").
+  BlockFileWriter writer(file);
+  const std::string header = header_text(header_comment, material_names.size() > 1);
+  writer.write(header.data(), header.size());
+  format_lines(particles, material_names, [&](const std::string& text) { writer.write(text.data(), text.size()); });
+  writer.commit();
+}
+
+void write_particles_csv(const std::filesystem::path& file, const Particles& mine, const std::string& header_comment,
+                         const std::vector<std::string>& material_names, const Comm& comm) {
+  const int ranks = comm.size(), me = comm.rank();
+  std::vector<Bytes> text(1);
+  format_lines(mine, material_names, [&](const std::string& lines) { text[0].insert(text[0].end(), lines.begin(), lines.end()); });
+  if (me != 0) {  // to rank 0, when it asks (one rank's text at a time there)
+    (void)comm.exchange_with({0}, text);
+    return;
+  }
+  BlockFileWriter writer(file);
+  const std::string header = header_text(header_comment, material_names.size() > 1);
+  writer.write(header.data(), header.size());
+  writer.write(reinterpret_cast<const char*>(text[0].data()), text[0].size());
+  Bytes().swap(text[0]);
+  for (int r = 1; r < ranks; ++r) {
+    const std::vector<Bytes> from = comm.exchange_with({r}, {Bytes{}});
+    writer.write(reinterpret_cast<const char*>(from[0].data()), from[0].size());
   }
   writer.commit();
 }

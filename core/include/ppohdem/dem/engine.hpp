@@ -135,6 +135,16 @@ class DemEngine {
   /// The particles this rank owns, in construction order: with several ranks (the fast
   /// engine's decomposition) a part of particles(), not collective (per-rank output pieces).
   virtual Particles owned_particles() const { return particles(); }
+  /// This rank's consecutive part of particles() (construction order), as the ranks split
+  /// the indices: rank r of P holds [first(r), first(r + 1)), first(r) = floor(N / P) r +
+  /// min(r, N mod P). What a rank writes of a file in construction order (write_particles_csv
+  /// with a Comm), without every rank holding particles(). Collective. Default: all of them.
+  struct OrderedPart {
+    Particles particles;
+    std::size_t first = 0;  ///< construction index of particles[0]
+    std::size_t total = 0;  ///< particles over all the ranks
+  };
+  virtual OrderedPart ordered_part() const { return {particles(), 0, particles().size()}; }
   virtual Energies energies() const = 0;
   /// A cheap screen for the per-step run checks (run_diagnostics.hpp): false if some
   /// position, velocity or angular velocity may not be finite (then the checks scan the
@@ -143,6 +153,18 @@ class DemEngine {
   virtual bool motion_finite() const {
     const Energies e = energies();
     return std::isfinite(e.kinetic + e.rotational + e.gravitational);
+  }
+  /// False if some particle's position, velocity, angular velocity, force or torque is not
+  /// finite: the screen of the run's check at the start (run.cpp), which then scans
+  /// particles() to name the particle. Collective. Default: that scan.
+  virtual bool state_finite() const {
+    for (const Particle& p : particles()) {
+      if (!p.position.allFinite() || !p.velocity.allFinite() || !p.angular_velocity.allFinite() ||
+          !p.force.allFinite() || !p.torque.allFinite()) {
+        return false;
+      }
+    }
+    return true;
   }
   virtual ContactCounts contact_counts() const = 0;
   /// Particles whose centre crossed a boundary (counted once each; they are then ignored by

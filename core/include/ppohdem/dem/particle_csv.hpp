@@ -60,4 +60,11 @@ void write_particles_csv(const std::filesystem::path& file, const Particles& par
                          const std::string& header_comment,
                          const std::vector<std::string>& material_names = {});
 
+/// The same file written by every rank of `comm`, each giving its consecutive part of the
+/// particles (`mine`; rank order is file order: DemEngine::ordered_part). Each rank formats its
+/// lines on its threads; rank 0 writes the file, taking the other ranks' text one rank at a
+/// time, so no rank holds every particle. The bytes are the one-rank writer's. Collective.
+void write_particles_csv(const std::filesystem::path& file, const Particles& mine, const std::string& header_comment,
+                         const std::vector<std::string>& material_names, const Comm& comm);
+
 }  // namespace ppohdem::dem

@@ -115,51 +115,92 @@ Particles FastEngine::owned_particles() const {
   return owned;
 }
 
+namespace {
+
+// An owned particle with its construction index, for a gather of particles().
+void pack_output(Packer& pk, const FastState& s, std::size_t k) {
+  const Particle p = particle_at(s, k);
+  pk.put(s.original[k]);
+  pk.put(p.id);
+  pk.put(p.position);
+  pk.put(p.velocity);
+  pk.put(p.angular_velocity);
+  pk.put(p.radius);
+  pk.put(p.material);
+  pk.put(p.force);
+  pk.put(p.torque);
+}
+
+// pack_output's records in `block`, each given to put(construction index, particle).
+template <class Put>
+void unpack_outputs(const Bytes& block, Put&& put) {
+  Unpacker u(block);
+  while (!u.done()) {
+    const auto o = u.get<std::uint32_t>();
+    Particle p;
+    u.get(p.id);
+    u.get(p.position);
+    u.get(p.velocity);
+    u.get(p.angular_velocity);
+    u.get(p.radius);
+    u.get(p.material);
+    u.get(p.force);
+    u.get(p.torque);
+    put(o, p);
+  }
+}
+
+}  // namespace
+
 const Particles& FastEngine::particles() const {
   Impl& m = *impl_;
   if (!m.out_valid) {
     const FastState& s = m.s;
     m.out.resize(m.total);
     auto fill = [&](std::uint32_t o, const Particle& p) { m.out[o] = p; };
-    Bytes mine;
-    Packer pk(mine);
-    for (std::size_t k = 0; k < s.owned; ++k) {
-      const Particle p = particle_at(s, k);
-      if (!m.distributed()) {
-        fill(s.original[k], p);
-        continue;
-      }
-      pk.put(s.original[k]);
-      pk.put(p.id);
-      pk.put(p.position);
-      pk.put(p.velocity);
-      pk.put(p.angular_velocity);
-      pk.put(p.radius);
-      pk.put(p.material);
-      pk.put(p.force);
-      pk.put(p.torque);
-    }
-    if (m.distributed()) {
-      for (const Bytes& block : m.comm->allgather(mine)) {
-        Unpacker u(block);
-        while (!u.done()) {
-          const auto o = u.get<std::uint32_t>();
-          Particle p;
-          u.get(p.id);
-          u.get(p.position);
-          u.get(p.velocity);
-          u.get(p.angular_velocity);
-          u.get(p.radius);
-          u.get(p.material);
-          u.get(p.force);
-          u.get(p.torque);
-          fill(o, p);
-        }
-      }
+    if (!m.distributed()) {
+      for (std::size_t k = 0; k < s.owned; ++k) fill(s.original[k], particle_at(s, k));
+    } else {
+      Bytes mine;
+      Packer pk(mine);
+      for (std::size_t k = 0; k < s.owned; ++k) pack_output(pk, s, k);
+      for (const Bytes& block : m.comm->allgather(mine)) unpack_outputs(block, fill);
     }
     m.out_valid = true;
   }
   return m.out;
+}
+
+DemEngine::OrderedPart FastEngine::ordered_part() const {
+  const Impl& m = *impl_;
+  if (!m.distributed() || m.out_valid) {  // (gathered already: cut from it)
+    const Particles& all = particles();
+    const auto ranks = static_cast<std::size_t>(m.comm->size()), me = static_cast<std::size_t>(m.comm->rank());
+    const std::size_t first = all.size() / ranks * me + std::min(me, all.size() % ranks);
+    const std::size_t count = all.size() / ranks + (me < all.size() % ranks ? 1 : 0);
+    return {Particles(all.begin() + static_cast<std::ptrdiff_t>(first), all.begin() + static_cast<std::ptrdiff_t>(first + count)),
+            first, all.size()};
+  }
+  const FastState& s = m.s;
+  const auto ranks = static_cast<std::size_t>(m.comm->size()), me = static_cast<std::size_t>(m.comm->rank());
+  const std::size_t base = m.total / ranks, bigger = m.total % ranks;  // the first `bigger` ranks hold base + 1
+  auto first_of = [&](std::size_t r) { return base * r + std::min(r, bigger); };
+  auto rank_of = [&](std::size_t o) {
+    return o < bigger * (base + 1) ? o / (base + 1) : bigger + (o - bigger * (base + 1)) / base;
+  };
+  std::vector<Bytes> to(ranks);
+  for (std::size_t k = 0; k < s.owned; ++k) {
+    Packer pk(to[rank_of(s.original[k])]);
+    pack_output(pk, s, k);
+  }
+  OrderedPart part;
+  part.first = first_of(me);
+  part.total = m.total;
+  part.particles.resize(first_of(me + 1) - part.first);
+  for (const Bytes& block : m.comm->exchange(to)) {
+    unpack_outputs(block, [&](std::uint32_t o, const Particle& p) { part.particles[o - part.first] = p; });
+  }
+  return part;
 }
 
 Energies FastEngine::energies() const {
@@ -188,6 +229,16 @@ bool FastEngine::motion_finite() const {
   // with several ranks every rank's, gathered with the evaluation's counts.
   if (m.kick_cached) return m.distributed() ? m.screens_finite : std::isfinite(m.s.screen);
   return DemEngine::motion_finite();
+}
+
+bool FastEngine::state_finite() const {
+  const Impl& m = *impl_;
+  const FastState& s = m.s;
+  bool finite = true;
+  for (std::size_t k = 0; k < s.owned && finite; ++k) {
+    finite = s.x[k].allFinite() && s.v[k].allFinite() && s.w[k].allFinite() && s.f[k].allFinite() && s.t[k].allFinite();
+  }
+  return m.distributed() ? m.comm->max_over_ranks(finite ? 0.0 : 1.0) == 0.0 : finite;
 }
 
 std::optional<LargestOverlap> FastEngine::largest_overlap() const {

@@ -161,6 +161,9 @@ class FastEngine final : public DemEngine {
   const Particles& particles() const override;
   /// This rank's particles in construction order (not collective).
   Particles owned_particles() const override;
+  /// Several ranks: one personalised exchange moves each owned particle to the rank of its
+  /// construction index (docs/dem.md "Reading on every rank").
+  OrderedPart ordered_part() const override;
   Energies energies() const override;
   ContactCounts contact_counts() const override;
   std::size_t escaped_count() const override;
@@ -168,6 +171,8 @@ class FastEngine final : public DemEngine {
   /// ranks every rank's), so that no energy is summed for the screen; after a (re)load, before
   /// any step, the default.
   bool motion_finite() const override;
+  /// Each rank scans its owned particles (no gather), then one allreduce.
+  bool state_finite() const override;
   std::vector<BoundaryLoad> boundary_loads() const override;
   EngineState save_state() const override;
   EngineStateShare save_state_share() const override;
