@@ -443,7 +443,9 @@ SharedParticles read_particles_csv(const std::filesystem::path& file, const std:
   const std::size_t begin = line_start(me), end = std::max(begin, line_start(me + 1));
   const std::string text = read_bytes(in, begin, end);
   Piece mine = parse_data_lines(text, 0, header->with_material, material_names, parse_pieces_for(text.size()));
-  // The lines and particles of the shares before this one number its lines and particles.
+  // The lines and particles of the shares before this one number its lines and particles. (A
+  // share with a bad line counts its lines only up to it: the later shares' numbers then come
+  // out lower than the file's, but still after that line, which is the error thrown.)
   std::vector<double> counts(2 * ranks, 0.0);  // exact: counts below 2^53
   counts[me] = static_cast<double>(mine.lines);
   counts[ranks + me] = static_cast<double>(mine.particles.size());
