@@ -2,8 +2,9 @@
 // rank"), through the command line as a user runs it: `mpirun -n P ppohdem simulate SCENE`.
 // The oracle is what the test wrote into the file: the line it spoiled, the two lines it gave
 // one id, the pairs it made overlap. Every rank must stop with that error at P = 1, 2, 3, 4,
-// even when the error's lines lie in different shares; and a file whose ids do not increase,
-// with a law that needs every radius (collision_time), runs to the reference engine's bits.
+// even when the error's lines lie in different shares. A file whose ids do not increase, with
+// a law that needs every radius (collision_time), and a file with a material column (written
+// back in parts with it) run to the reference engine's bits.
 // Label mpi; built only with PPOHDEM_ENABLE_MPI.
 #include <gtest/gtest.h>
 
@@ -155,6 +156,45 @@ TEST(SharedReadMpi, ShuffledIdsAndACollisionTimeLawRunAsTheReference) {
   for (const int ranks : {2, 3}) {
     SCOPED_TRACE("ranks " + std::to_string(ranks));
     const fs::path dir = scratch("shuffled_np" + std::to_string(ranks));
+    const CommandResult run = run_mpi(ranks, 1, write(dir), "--engine fast --quiet");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(body(dir / "out" / "final.csv"), ref_final);
+  }
+}
+
+// Two named materials given by the file's material column: read in shares and written in parts
+// with that column, final.csv at 2 and 3 ranks is the reference engine's, bit for bit.
+TEST(SharedReadMpi, AMaterialColumnIsReadInSharesAndWrittenInParts) {
+  auto write = [](const fs::path& dir) {
+    const fs::path scene = ppohdem::test::write_bed(dir, 9, 9, 9, 200, 0);
+    ppohdem::test::replace_in_scene(
+        scene, "[material]\ndensity = 2500.0\nyoung = 1.0e7\npoisson = 0.3\nrestitution = 0.5\nfriction = 0.5\n",
+        "[[material]]\nname = \"soft\"\ndensity = 2500.0\nyoung = 1.0e7\npoisson = 0.3\nrestitution = 0.5\nfriction = 0.5\n"
+        "[[material]]\nname = \"stiff\"\ndensity = 7800.0\nyoung = 5.0e7\npoisson = 0.25\nrestitution = 0.9\nfriction = 0.2\n");
+    std::ifstream in(dir / "bed.csv");
+    std::vector<std::string> lines;
+    bool data = false;
+    for (std::string line; std::getline(in, line);) {
+      if (data) line += (std::stol(line.substr(0, line.find(','))) % 2 == 0) ? ",stiff" : ",soft";
+      if (line.rfind("id,", 0) == 0) {
+        line += ",material";
+        data = true;
+      }
+      lines.push_back(line);
+    }
+    EXPECT_TRUE(data);
+    std::ofstream out(dir / "bed.csv");
+    for (const std::string& line : lines) out << line << '\n';
+    return scene;
+  };
+  const fs::path ref_dir = scratch("materials_reference");
+  const CommandResult ref = ppohdem::test::run_ppohdem("simulate '" + write(ref_dir).string() + "' --engine reference --quiet");
+  ASSERT_EQ(ref.exit_code, 0) << ref.output;
+  const std::string ref_final = body(ref_dir / "out" / "final.csv");
+  ASSERT_NE(ref_final.find(",stiff\n"), std::string::npos);
+  for (const int ranks : {2, 3}) {
+    SCOPED_TRACE("ranks " + std::to_string(ranks));
+    const fs::path dir = scratch("materials_np" + std::to_string(ranks));
     const CommandResult run = run_mpi(ranks, 1, write(dir), "--engine fast --quiet");
     ASSERT_EQ(run.exit_code, 0) << run.output;
     EXPECT_EQ(body(dir / "out" / "final.csv"), ref_final);
