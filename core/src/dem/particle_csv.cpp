@@ -409,8 +409,8 @@ SharedParticles read_particles_csv(const std::filesystem::path& file, const std:
   if (size_error || ranks == 1) {  // one rank, or not a regular file (a pipe): all of it, then a share of it
     Particles all = read_particles_csv(file, material_names);
     out.share.total = all.size();
-    out.share.first = all.size() / ranks * me + std::min(me, all.size() % ranks);
-    const std::size_t count = all.size() / ranks + (me < all.size() % ranks ? 1 : 0);
+    out.share.first = even_part_first(all.size(), ranks, me);
+    const std::size_t count = even_part_first(all.size(), ranks, me + 1) - out.share.first;
     if (ranks == 1) out.particles = std::move(all);
     else out.particles.assign(all.begin() + static_cast<std::ptrdiff_t>(out.share.first),
                               all.begin() + static_cast<std::ptrdiff_t>(out.share.first + count));

@@ -136,8 +136,8 @@ class DemEngine {
   /// engine's decomposition) a part of particles(), not collective (per-rank output pieces).
   virtual Particles owned_particles() const { return particles(); }
   /// This rank's consecutive part of particles() (construction order), as the ranks split
-  /// the indices: rank r of P holds [first(r), first(r + 1)), first(r) = floor(N / P) r +
-  /// min(r, N mod P). What a rank writes of a file in construction order (write_particles_csv
+  /// the indices: rank r of P holds [first(r), first(r + 1)), first = even_part_first
+  /// (simulation_setup.hpp). What a rank writes of a file in construction order (write_particles_csv
   /// with a Comm), without every rank holding particles(). Collective. Default: all of them.
   struct OrderedPart {
     Particles particles;

@@ -3,6 +3,8 @@
 /// Everything an engine needs to start, independent of any file format: the scene reader
 /// (scene.hpp) produces one, tests build them directly. Copyable (boundaries are shared and
 /// immutable).
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -45,6 +47,13 @@ struct ParticleShare {
   std::size_t first = 0;       ///< file index of this rank's first particle
   std::size_t total = 0;       ///< particles over all the ranks
 };
+
+/// The first of the consecutive items [first(k), first(k + 1)) that part k gets when `total`
+/// items are split over `parts` parts as evenly as they go (the first total mod parts parts
+/// hold one more): DemEngine::ordered_part's ranks, a piped particle file's shares.
+inline std::size_t even_part_first(std::size_t total, std::size_t parts, std::size_t k) {
+  return total / parts * k + std::min(k, total % parts);
+}
 
 struct SimulationSetup {
   double dt = 0.0;                 ///< time step [s]

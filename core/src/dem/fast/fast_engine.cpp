@@ -176,16 +176,16 @@ DemEngine::OrderedPart FastEngine::ordered_part() const {
   if (!m.distributed() || m.out_valid) {  // (gathered already: cut from it)
     const Particles& all = particles();
     const auto ranks = static_cast<std::size_t>(m.comm->size()), me = static_cast<std::size_t>(m.comm->rank());
-    const std::size_t first = all.size() / ranks * me + std::min(me, all.size() % ranks);
-    const std::size_t count = all.size() / ranks + (me < all.size() % ranks ? 1 : 0);
+    const std::size_t first = even_part_first(all.size(), ranks, me);
+    const std::size_t count = even_part_first(all.size(), ranks, me + 1) - first;
     return {Particles(all.begin() + static_cast<std::ptrdiff_t>(first), all.begin() + static_cast<std::ptrdiff_t>(first + count)),
             first, all.size()};
   }
   const FastState& s = m.s;
   const auto ranks = static_cast<std::size_t>(m.comm->size()), me = static_cast<std::size_t>(m.comm->rank());
+  auto first_of = [&](std::size_t r) { return even_part_first(m.total, ranks, r); };
   const std::size_t base = m.total / ranks, bigger = m.total % ranks;  // the first `bigger` ranks hold base + 1
-  auto first_of = [&](std::size_t r) { return base * r + std::min(r, bigger); };
-  auto rank_of = [&](std::size_t o) {
+  auto rank_of = [&](std::size_t o) {  // the inverse of first_of
     return o < bigger * (base + 1) ? o / (base + 1) : bigger + (o - bigger * (base + 1)) / base;
   };
   std::vector<Bytes> to(ranks);
