@@ -48,21 +48,12 @@ void write_vtk_frame(const std::filesystem::path& file, const Particles& particl
   writer.commit();
 }
 
-void write_pov_frame(const std::filesystem::path& file, const Particles& particles,
-                     const std::string& header,
-                     const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects, double time) {
-  AtomicFileWriter writer(file);
-  std::ostream& out = writer.stream();
-  out << "// " << header << "\n// POV-Ray scene: <x, z, y> because POV-Ray is y-up (as the seed).\n";
+namespace {
+
+/// The POV-Ray scene's head: the run header, then camera and light framing the box [lo, hi].
+std::string pov_head(const std::string& header, const Vec3& lo, const Vec3& hi) {
+  std::string head = "// " + header + "\n// POV-Ray scene: <x, z, y> because POV-Ray is y-up (as the seed).\n";
   // Frame the particles: camera on the -y side (POV -z), looking at the centre.
-  Vec3 lo = Vec3::Constant(0.0), hi = Vec3::Constant(0.0);
-  if (!particles.empty()) {
-    lo = hi = particles.front().position;
-    for (const Particle& p : particles) {
-      lo = lo.cwiseMin(p.position - Vec3::Constant(p.radius));
-      hi = hi.cwiseMax(p.position + Vec3::Constant(p.radius));
-    }
-  }
   const Vec3 c = 0.5 * (lo + hi);
   const double size = std::max((hi - lo).maxCoeff(), 1e-12);
   char buf[256];
@@ -72,30 +63,62 @@ void write_pov_frame(const std::filesystem::path& file, const Particles& particl
                 "light_source { <%.8g, %.8g, %.8g> color White }\n",
                 c.x(), c.z() + 0.5 * size, c.y() - 2.0 * size, c.x(), c.z(), c.y(),
                 c.x() + size, c.z() + 2.0 * size, c.y() - 2.0 * size);
-  out << buf;
-  for (const Particle& p : particles) {
-    std::snprintf(buf, sizeof buf, "sphere { <%.10g, %.10g, %.10g>, %.10g pigment { color rgb <0.8, 0.5, 0.2> } }\n",
-                  p.position.x(), p.position.z(), p.position.y(), p.radius);
-    out << buf;
-  }
+  return head + buf;
+}
+
+/// One particle's POV-Ray sphere, with its newline, into buf; returns the length.
+int pov_sphere(char* buf, std::size_t size, const Particle& p) {
+  return std::snprintf(buf, size, "sphere { <%.10g, %.10g, %.10g>, %.10g pigment { color rgb <0.8, 0.5, 0.2> } }\n",
+                       p.position.x(), p.position.z(), p.position.y(), p.radius);
+}
+
+/// The objects' display meshes at pose_at(time), one POV-Ray `mesh` each.
+std::string pov_objects(const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects, double time) {
+  std::string text;
+  char buf[256];
   // Objects: the display mesh at the object's pose, in the same <x, z, y> order. (Swapping y and
   // z mirrors the scene; POV-Ray triangles have no facing side, so the order is harmless.)
   for (const auto& object : objects) {
     const TriangleMesh* mesh = object ? object->display_mesh() : nullptr;
     if (!mesh || mesh->empty()) continue;
     const RigidTransform pose = object->pose_at(time);
-    out << "mesh {\n";
+    text += "mesh {\n";
     for (const Triangle& t : mesh->triangles) {
-      out << "  triangle {";
+      text += "  triangle {";
       for (int k = 0; k < 3; ++k) {
         const Vec3 p = pose.apply(t.v[static_cast<std::size_t>(k)]);
         std::snprintf(buf, sizeof buf, "%s<%.10g, %.10g, %.10g>", k == 0 ? " " : ", ", p.x(), p.z(), p.y());
-        out << buf;
+        text += buf;
       }
-      out << " }\n";
+      text += " }\n";
     }
-    out << "  pigment { color rgb <0.3, 0.5, 0.8> }\n}\n";
+    text += "  pigment { color rgb <0.3, 0.5, 0.8> }\n}\n";
   }
+  return text;
+}
+
+}  // namespace
+
+void write_pov_frame(const std::filesystem::path& file, const Particles& particles,
+                     const std::string& header,
+                     const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects, double time) {
+  AtomicFileWriter writer(file);
+  std::ostream& out = writer.stream();
+  Vec3 lo = Vec3::Constant(0.0), hi = Vec3::Constant(0.0);
+  if (!particles.empty()) {
+    lo = hi = particles.front().position;
+    for (const Particle& p : particles) {
+      lo = lo.cwiseMin(p.position - Vec3::Constant(p.radius));
+      hi = hi.cwiseMax(p.position + Vec3::Constant(p.radius));
+    }
+  }
+  out << pov_head(header, lo, hi);
+  char buf[256];
+  for (const Particle& p : particles) {
+    pov_sphere(buf, sizeof buf, p);
+    out << buf;
+  }
+  out << pov_objects(objects, time);
   writer.commit();
 }
 
