@@ -1,9 +1,15 @@
 #include "ppohdem/dem/output_writers.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <memory>
+#include <stdexcept>
 
+#include "ppohdem/comm/comm.hpp"
 #include "ppohdem/io/atomic_file.hpp"
+#include "ppohdem/io/block_file.hpp"
 
 namespace ppohdem::dem {
 
@@ -120,6 +126,162 @@ void write_pov_frame(const std::filesystem::path& file, const Particles& particl
   }
   out << pov_objects(objects, time);
   writer.commit();
+}
+
+namespace {
+
+void append(Bytes& text, const char* s, std::size_t n) { text.insert(text.end(), s, s + n); }
+
+/// Rank 0 writes its `text`, then every other rank's in rank order, taking one rank's text at
+/// a time (it asks rank r for it when it gets there); the others send theirs. `writer` is used
+/// on rank 0 only. Collective: every rank calls it at the same point.
+void write_in_rank_order(BlockFileWriter* writer, Bytes text, const Comm& comm) {
+  if (comm.rank() != 0) {
+    (void)comm.exchange_with({0}, {std::move(text)});
+    return;
+  }
+  writer->write(reinterpret_cast<const char*>(text.data()), text.size());
+  Bytes().swap(text);
+  for (int r = 1; r < comm.size(); ++r) {
+    const std::vector<Bytes> from = comm.exchange_with({r}, {Bytes{}});
+    writer->write(reinterpret_cast<const char*>(from[0].data()), from[0].size());
+  }
+}
+
+/// One rank's lines of the legacy VTK frame's section `section` (0 POINTS, 1 VERTICES, 2 radius,
+/// 3 id, 4 velocity, 5 angular_velocity), formatted as write_vtk_frame's loops format them.
+Bytes vtk_section(const Particles& mine, std::size_t first, int section) {
+  Bytes text;
+  char buf[160];
+  auto vector_lines = [&](auto get) {
+    for (const Particle& p : mine) {
+      const Vec3 v = get(p);
+      append(text, buf, static_cast<std::size_t>(std::snprintf(buf, sizeof buf, "%.10g %.10g %.10g\n", v.x(), v.y(), v.z())));
+    }
+  };
+  switch (section) {
+    case 0: vector_lines([](const Particle& p) { return p.position; }); break;
+    case 1:
+      for (std::size_t k = 0; k < mine.size(); ++k) {
+        char* at = std::to_chars(buf + 2, buf + sizeof buf - 1, first + k).ptr;  // 1: room for '\n'
+        buf[0] = '1';
+        buf[1] = ' ';
+        *at++ = '\n';
+        append(text, buf, static_cast<std::size_t>(at - buf));
+      }
+      break;
+    case 2:
+      for (const Particle& p : mine) append(text, buf, static_cast<std::size_t>(std::snprintf(buf, sizeof buf, "%.10g\n", p.radius)));
+      break;
+    case 3:
+      for (const Particle& p : mine) {
+        char* at = std::to_chars(buf, buf + sizeof buf - 1, p.id).ptr;
+        *at++ = '\n';
+        append(text, buf, static_cast<std::size_t>(at - buf));
+      }
+      break;
+    case 4: vector_lines([](const Particle& p) { return p.velocity; }); break;
+    default: vector_lines([](const Particle& p) { return p.angular_velocity; }); break;
+  }
+  return text;
+}
+
+}  // namespace
+
+void write_vtk_frame(const std::filesystem::path& file, const Particles& mine, std::size_t first,
+                     std::size_t total, const std::string& header, const Comm& comm) {
+  std::unique_ptr<BlockFileWriter> writer;
+  const std::string n = std::to_string(total);
+  const std::string section_heads[6] = {
+      "# vtk DataFile Version 3.0\n" + header.substr(0, 255) + "\nASCII\nDATASET POLYDATA\nPOINTS " + n + " double\n",
+      "VERTICES " + n + ' ' + std::to_string(2 * total) + '\n',
+      "POINT_DATA " + n + "\nSCALARS radius double 1\nLOOKUP_TABLE default\n",
+      "SCALARS id double 1\nLOOKUP_TABLE default\n",
+      "VECTORS velocity double\n",
+      "VECTORS angular_velocity double\n"};
+  if (comm.rank() == 0) writer = std::make_unique<BlockFileWriter>(file);
+  for (int section = 0; section < 6; ++section) {
+    const std::string& head = section_heads[section];
+    if (writer) writer->write(head.data(), head.size());
+    write_in_rank_order(writer.get(), vtk_section(mine, first, section), comm);
+  }
+  if (writer) writer->commit();
+}
+
+void write_pov_frame(const std::filesystem::path& file, const Particles& mine, std::size_t first,
+                     std::size_t total, const std::string& header, const Comm& comm,
+                     const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects, double time) {
+  // The one-rank writer's box: lo = hi = the first particle's position, then lo = min(lo,
+  // x - r) and hi = max(hi, x + r) over the particles in order, by Eigen's cwiseMin/cwiseMax,
+  // which are std::min(lo, v) and std::max(hi, v) per coordinate: the accumulator unless v
+  // is strictly smaller (larger). So a NaN v is skipped (a NaN first position stays), and
+  // among equal values (-0 and +0) the first one kept. Over values without NaN that fold is
+  // associative, so each rank's fold over its part (its first value that is not NaN, then
+  // std::min/max), combined in rank order after the first position, is the same bits.
+  // Record: [count, first, has first position, its x y z, then per coordinate: has lo, lo,
+  // has hi, hi] (the counts exact as doubles below 2^53).
+  constexpr std::size_t kWords = 18;
+  std::vector<double> record(kWords, 0.0);
+  record[0] = static_cast<double>(mine.size());
+  record[1] = static_cast<double>(first);
+  if (first == 0 && !mine.empty()) {
+    record[2] = 1.0;
+    for (int k = 0; k < 3; ++k) record[3 + static_cast<std::size_t>(k)] = mine.front().position[k];
+  }
+  for (const Particle& p : mine) {
+    for (int k = 0; k < 3; ++k) {
+      double* box = &record[6 + 4 * static_cast<std::size_t>(k)];  // has lo, lo, has hi, hi
+      const double lo = p.position[k] - p.radius, hi = p.position[k] + p.radius;
+      if (box[0] != 0.0) {
+        box[1] = std::min(box[1], lo);
+      } else if (!std::isnan(lo)) {
+        box[0] = 1.0;
+        box[1] = lo;
+      }
+      if (box[2] != 0.0) {
+        box[3] = std::max(box[3], hi);
+      } else if (!std::isnan(hi)) {
+        box[2] = 1.0;
+        box[3] = hi;
+      }
+    }
+  }
+  const std::vector<double> records = comm.gather_to_root(record);
+  std::unique_ptr<BlockFileWriter> writer;
+  if (comm.rank() == 0) {
+    const std::size_t ranks = static_cast<std::size_t>(comm.size());
+    if (records.size() != ranks * kWords) throw std::logic_error("write_pov_frame: unequal records");
+    Vec3 lo = Vec3::Constant(0.0), hi = Vec3::Constant(0.0);
+    std::size_t count = 0;
+    for (std::size_t r = 0; r < ranks; ++r) {  // the parts must follow each other
+      const double* rec = &records[r * kWords];
+      if (static_cast<std::size_t>(rec[1]) != count && rec[0] != 0.0) {
+        throw std::invalid_argument("write_pov_frame: rank " + std::to_string(r) + "'s part does not follow the one before");
+      }
+      if (rec[2] != 0.0) lo = hi = Vec3(rec[3], rec[4], rec[5]);
+      count += static_cast<std::size_t>(rec[0]);
+    }
+    if (count != total) throw std::invalid_argument("write_pov_frame: the parts do not hold `total` particles");
+    for (std::size_t r = 0; r < ranks && total > 0; ++r) {
+      const double* rec = &records[r * kWords];
+      for (int k = 0; k < 3; ++k) {
+        const double* box = rec + 6 + 4 * k;
+        if (box[0] != 0.0) lo[k] = std::min(lo[k], box[1]);
+        if (box[2] != 0.0) hi[k] = std::max(hi[k], box[3]);
+      }
+    }
+    writer = std::make_unique<BlockFileWriter>(file);
+    const std::string head = pov_head(header, lo, hi);
+    writer->write(head.data(), head.size());
+  }
+  Bytes spheres;
+  char buf[256];
+  for (const Particle& p : mine) append(spheres, buf, static_cast<std::size_t>(pov_sphere(buf, sizeof buf, p)));
+  write_in_rank_order(writer.get(), std::move(spheres), comm);
+  if (!writer) return;
+  const std::string tail = pov_objects(objects, time);
+  writer->write(tail.data(), tail.size());
+  writer->commit();
 }
 
 TriangleMesh transformed(const TriangleMesh& mesh, const RigidTransform& pose) {

@@ -31,6 +31,10 @@
 #include "ppohdem/dem/particle.hpp"
 #include "ppohdem/mesh/triangle_mesh.hpp"
 
+namespace ppohdem {
+class Comm;
+}
+
 namespace ppohdem::dem {
 
 void write_vtk_frame(const std::filesystem::path& file, const Particles& particles,
@@ -38,6 +42,26 @@ void write_vtk_frame(const std::filesystem::path& file, const Particles& particl
 /// `objects`: the scene's objects; each one's display mesh (if any) is drawn at pose_at(time).
 void write_pov_frame(const std::filesystem::path& file, const Particles& particles,
                      const std::string& header,
+                     const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects = {},
+                     double time = 0.0);
+
+/// Parts (several ranks, docs/dem.md "Reading on every rank"): the same bytes as the writers
+/// above given all the particles, written from each rank's consecutive part of them. `mine`
+/// holds the particles [first, first + mine.size()) of `total` (DemEngine::ordered_part:
+/// rank r's part follows rank r - 1's); no rank holds every particle. Each rank formats its
+/// own lines; rank 0 writes the file (BlockFileWriter: temp file, then rename), taking the
+/// other ranks' text one rank at a time. Collective.
+///
+/// VTK: rank 0 writes each section's header (POINTS, VERTICES, radius, id, velocity,
+/// angular_velocity), then every rank's lines of that section in rank order; a rank formats
+/// one section at a time. VERTICES "1 i" numbers the particles by their global index first + k.
+void write_vtk_frame(const std::filesystem::path& file, const Particles& mine, std::size_t first,
+                     std::size_t total, const std::string& header, const Comm& comm);
+/// POV-Ray: the camera frames the box of all the particles, which rank 0 merges in rank order
+/// from each rank's box (one gather of 18 doubles a rank; minima and maxima, so exactly the one
+/// loop's box); then the spheres in rank order, and rank 0 adds the objects' display meshes.
+void write_pov_frame(const std::filesystem::path& file, const Particles& mine, std::size_t first,
+                     std::size_t total, const std::string& header, const Comm& comm,
                      const std::vector<std::shared_ptr<const DistanceFieldObject>>& objects = {},
                      double time = 0.0);
 
