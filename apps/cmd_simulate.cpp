@@ -280,7 +280,7 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   if (ranks > 1) {
     load = dynamic_cast<const dem::fast::FastEngine&>(*engine).load_report();  // collective
     const double steps_run = static_cast<double>(std::max(engine->step_count() - steps_before, 1L));
-    // The steps' messages: not those of the particle CSV files (RunSummary::output_messages).
+    // The steps' messages: not those of the files written in parts (RunSummary::output_messages).
     const double mine = static_cast<double>(options.comm->messages_sent() - messages_before - s.output_messages) / steps_run;
     messages_mean = options.comm->sum_over_ranks(mine) / ranks;
     messages_max = options.comm->max_over_ranks(mine);

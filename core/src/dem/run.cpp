@@ -184,30 +184,37 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     vtu_frames.emplace_back(engine.time(), name);
     write_pvd_collection(out.dir / "frames.pvd", vtu_frames, header);
   };
-  // Several ranks: each gives its part of a particle CSV, in construction order (no rank holds
-  // every particle; docs/dem.md "Reading on every rank"); one rank: the whole file.
-  const bool csv_in_parts = options.comm != nullptr && options.comm->size() > 1;
-  auto write_csv = [&](const fs::path& file) {
-    if (!csv_in_parts) {
-      write_particles_csv(file, engine.particles(), header, material_column);
-      return;
-    }
-    const std::uint64_t before = options.comm->messages_sent();
-    write_particles_csv(file, engine.ordered_part().particles, header, material_column, *options.comm);
-    summary.output_messages += options.comm->messages_sent() - before;
-  };
+  // Several ranks: each gives its part of a particle CSV, legacy VTK or POV-Ray frame and of
+  // final.csv, in construction order (no rank holds every particle; docs/dem.md "Reading on
+  // every rank"), and rank 0 writes the file; one rank: the whole file.
+  const bool in_parts = options.comm != nullptr && options.comm->size() > 1;
   auto write_frame = [&](long step) {
     const fs::path stem = out.dir / frame_stem(step);
     if (out.vtu) write_vtu(step);
-    if (out.csv && csv_in_parts) write_csv(fs::path(stem).concat(".csv"));  // collective
-    if (out.vtk || out.pov) (void)engine.particles();  // collective: on every rank
+    if (in_parts && (out.csv || out.vtk || out.pov)) {  // collective: on every rank
+      const std::uint64_t before = options.comm->messages_sent();
+      const DemEngine::OrderedPart part = engine.ordered_part();
+      if (out.csv) {
+        write_particles_csv(fs::path(stem).concat(".csv"), part.particles, header, material_column, *options.comm);
+      }
+      if (out.vtk) {
+        write_vtk_frame(fs::path(stem).concat(".vtk"), part.particles, part.first, part.total, header, *options.comm);
+      }
+      if (out.pov) {
+        write_pov_frame(fs::path(stem).concat(".pov"), part.particles, part.first, part.total, header, *options.comm,
+                        object_ptrs, engine.time());
+      }
+      summary.output_messages += options.comm->messages_sent() - before;
+    }
     if (!writer) {
       if (out.csv || out.vtk || out.pov || out.vtu) ++summary.frames;
       return;
     }
-    if (out.csv && !csv_in_parts) write_csv(fs::path(stem).concat(".csv"));
-    if (out.vtk) write_vtk_frame(fs::path(stem).concat(".vtk"), engine.particles(), header);
-    if (out.pov) write_pov_frame(fs::path(stem).concat(".pov"), engine.particles(), header, object_ptrs, engine.time());
+    if (!in_parts) {
+      if (out.csv) write_particles_csv(fs::path(stem).concat(".csv"), engine.particles(), header, material_column);
+      if (out.vtk) write_vtk_frame(fs::path(stem).concat(".vtk"), engine.particles(), header);
+      if (out.pov) write_pov_frame(fs::path(stem).concat(".pov"), engine.particles(), header, object_ptrs, engine.time());
+    }
     if ((out.vtk || out.pov) && any_display_mesh) {
       fs::create_directories(out.dir / "objects", ec);
       for (std::size_t o = 0; o < object_ptrs.size(); ++o) {
@@ -386,8 +393,8 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   const auto gather_start = clock::now();  // the end's gather (or its parts' exchange)
   // Collective: every rank its part of final.csv (several ranks), or all of them.
   const std::uint64_t messages_before_end = options.comm != nullptr ? options.comm->messages_sent() : 0;
-  const DemEngine::OrderedPart final_part = csv_in_parts ? engine.ordered_part() : DemEngine::OrderedPart{};
-  const std::size_t particle_count = csv_in_parts ? final_part.total : engine.particles().size();
+  const DemEngine::OrderedPart final_part = in_parts ? engine.ordered_part() : DemEngine::OrderedPart{};
+  const std::size_t particle_count = in_parts ? final_part.total : engine.particles().size();
   if (writer) log << "simulate: " << scene.steps - first_step << " steps of " << particle_count
       << " particles in " << summary.wall_seconds << " s (" << engine.name() << " engine)\n";
   if (writer && insertion.active()) {
@@ -397,7 +404,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   flush_logs();
   const auto write_start = clock::now();
   summary.gather_seconds = std::chrono::duration<double>(write_start - gather_start).count();
-  if (csv_in_parts) {
+  if (in_parts) {
     write_particles_csv(out.dir / "final.csv", final_part.particles, header, material_column, *options.comm);
     summary.output_messages += options.comm->messages_sent() - messages_before_end;
   } else if (writer) {

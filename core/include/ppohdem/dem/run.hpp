@@ -37,8 +37,8 @@ struct RunSummary {
   double wall_seconds = 0.0;  ///< time loop only [s]
   double gather_seconds = 0.0;  ///< the final particles gathered (several ranks: each rank's part of final.csv) [s]
   double write_seconds = 0.0;   ///< final.csv written (rank 0) [s]
-  /// Point-to-point messages this rank sent for particle CSV files (frames, final.csv): not
-  /// the steps' (Comm::messages_sent counts both).
+  /// Point-to-point messages this rank sent for the files written in parts (CSV, legacy VTK
+  /// and POV-Ray frames, final.csv): not the steps' (Comm::messages_sent counts both).
   std::uint64_t output_messages = 0;
   std::uintmax_t write_bytes = 0;  ///< size of final.csv (rank 0) [B]
   std::size_t checkpoints = 0;        ///< checkpoints written by the time loop
