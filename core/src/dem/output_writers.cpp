@@ -10,6 +10,7 @@
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/io/atomic_file.hpp"
 #include "ppohdem/io/block_file.hpp"
+#include "write_in_rank_order.hpp"
 
 namespace ppohdem::dem {
 
@@ -131,22 +132,6 @@ void write_pov_frame(const std::filesystem::path& file, const Particles& particl
 namespace {
 
 void append(Bytes& text, const char* s, std::size_t n) { text.insert(text.end(), s, s + n); }
-
-/// Rank 0 writes its `text`, then every other rank's in rank order, taking one rank's text at
-/// a time (it asks rank r for it when it gets there); the others send theirs. `writer` is used
-/// on rank 0 only. Collective: every rank calls it at the same point.
-void write_in_rank_order(BlockFileWriter* writer, Bytes text, const Comm& comm) {
-  if (comm.rank() != 0) {
-    (void)comm.exchange_with({0}, {std::move(text)});
-    return;
-  }
-  writer->write(reinterpret_cast<const char*>(text.data()), text.size());
-  Bytes().swap(text);
-  for (int r = 1; r < comm.size(); ++r) {
-    const std::vector<Bytes> from = comm.exchange_with({r}, {Bytes{}});
-    writer->write(reinterpret_cast<const char*>(from[0].data()), from[0].size());
-  }
-}
 
 /// One rank's lines of the legacy VTK frame's section `section` (0 POINTS, 1 VERTICES, 2 radius,
 /// 3 id, 4 velocity, 5 angular_velocity), formatted as write_vtk_frame's loops format them.

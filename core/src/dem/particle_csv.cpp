@@ -7,12 +7,14 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
 
 #include "ppohdem/comm/comm.hpp"
 #include "checks_over_ranks.hpp"
+#include "write_in_rank_order.hpp"
 #include "ppohdem/error.hpp"
 #include "ppohdem/io/block_file.hpp"
 
@@ -549,23 +551,16 @@ void write_particles_csv(const std::filesystem::path& file, const Particles& par
 
 void write_particles_csv(const std::filesystem::path& file, const Particles& mine, const std::string& header_comment,
                          const std::vector<std::string>& material_names, const Comm& comm) {
-  const int ranks = comm.size(), me = comm.rank();
-  std::vector<Bytes> text(1);
-  format_lines(mine, material_names, [&](const std::string& lines) { text[0].insert(text[0].end(), lines.begin(), lines.end()); });
-  if (me != 0) {  // to rank 0, when it asks (one rank's text at a time there)
-    (void)comm.exchange_with({0}, text);
-    return;
+  Bytes text;
+  format_lines(mine, material_names, [&](const std::string& lines) { text.insert(text.end(), lines.begin(), lines.end()); });
+  std::unique_ptr<BlockFileWriter> writer;
+  if (comm.rank() == 0) {
+    writer = std::make_unique<BlockFileWriter>(file);
+    const std::string header = header_text(header_comment, material_names.size() > 1);
+    writer->write(header.data(), header.size());
   }
-  BlockFileWriter writer(file);
-  const std::string header = header_text(header_comment, material_names.size() > 1);
-  writer.write(header.data(), header.size());
-  writer.write(reinterpret_cast<const char*>(text[0].data()), text[0].size());
-  Bytes().swap(text[0]);
-  for (int r = 1; r < ranks; ++r) {
-    const std::vector<Bytes> from = comm.exchange_with({r}, {Bytes{}});
-    writer.write(reinterpret_cast<const char*>(from[0].data()), from[0].size());
-  }
-  writer.commit();
+  write_in_rank_order(writer.get(), std::move(text), comm);
+  if (writer) writer->commit();
 }
 
 }  // namespace ppohdem::dem
