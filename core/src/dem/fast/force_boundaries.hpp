@@ -151,17 +151,17 @@ inline void visit_boundary(const K& kernel, RangePass& pass, BoundaryWalk& walk,
 /// Particle i's energy terms of this evaluation (kEnergy): its elastic energy kept for the
 /// state's sum (summed only when asked), its three rates added to the range's exact sums
 /// (the dissipation through the range's buffer), the step's only pass over them (docs/dem.md
-/// "Energy book-keeping"); a particle whose rates are all +-0 (most of a dilute phase) adds
-/// nothing, with one test.
+/// "Energy book-keeping"). A dissipation of +-0 (a particle that touches nothing) is written
+/// but not kept (the count advances by 0 or 1, no branch: whether a particle touches is a
+/// coin toss in an impact); the boundary rates are added only by a particle that has them.
 inline void store_terms(RangePass& pass, std::size_t i, const ParticleSums& sums) {
   pass.s.terms[i].elastic = sums.elastic;
-  const std::uint64_t bits = std::bit_cast<std::uint64_t>(sums.dissipated) | std::bit_cast<std::uint64_t>(sums.work) |
-                             std::bit_cast<std::uint64_t>(sums.power);
-  if ((bits << 1) != 0) {
-    ThreadOutput& out = pass.out;
-    out.dissipation_buffer[out.buffered] = sums.dissipated;
-    if (++out.buffered == out.dissipation_buffer.size()) out.add_dissipation_buffer();
-    out.rates[1].add(sums.work);  // +-0 for a particle that touches no boundary: no add
+  ThreadOutput& out = pass.out;
+  out.dissipation_buffer[out.buffered] = sums.dissipated;
+  out.buffered += static_cast<std::size_t>((std::bit_cast<std::uint64_t>(sums.dissipated) << 1) != 0);
+  if (out.buffered == out.dissipation_buffer.size()) out.add_dissipation_buffer();
+  if (((std::bit_cast<std::uint64_t>(sums.work) | std::bit_cast<std::uint64_t>(sums.power)) << 1) != 0) {
+    out.rates[1].add(sums.work);
     out.rates[2].add(sums.power);
   }
 }

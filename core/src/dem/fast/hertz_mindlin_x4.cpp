@@ -62,6 +62,22 @@ PPOHDEM_LANES void load_rows(const double* const* from, D& a, D& b, D& c, D& d) 
   c = reinterpret_cast<D>(_mm256_permute2f128_pd(ac01, ac23, 0x31));
   d = reinterpret_cast<D>(_mm256_permute2f128_pd(bd01, bd23, 0x31));
 }
+/// Pair l = (a[l], b[l]) to the two doubles at to[l]: two unpacks and four 16-byte stores.
+PPOHDEM_LANES void store_pairs(D a, D b, double* const* to) {
+  const __m256d even = _mm256_unpacklo_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));  // a0 b0 a2 b2
+  const __m256d odd = _mm256_unpackhi_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));   // a1 b1 a3 b3
+  _mm_storeu_pd(to[0], _mm256_castpd256_pd128(even));
+  _mm_storeu_pd(to[1], _mm256_castpd256_pd128(odd));
+  _mm_storeu_pd(to[2], _mm256_extractf128_pd(even, 1));
+  _mm_storeu_pd(to[3], _mm256_extractf128_pd(odd, 1));
+}
+/// The transpose of store_pairs: a[l], b[l] = the two doubles at from[l].
+PPOHDEM_LANES void load_pairs(const double* const* from, D& a, D& b) {
+  const __m256d even = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(from[0])), _mm_loadu_pd(from[2]), 1);
+  const __m256d odd = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(from[1])), _mm_loadu_pd(from[3]), 1);
+  a = reinterpret_cast<D>(_mm256_unpacklo_pd(even, odd));
+  b = reinterpret_cast<D>(_mm256_unpackhi_pd(even, odd));
+}
 #include "hertz_mindlin_lanes.inc"
 #undef PPOHDEM_LANES
 }  // namespace lanes4
@@ -100,6 +116,18 @@ PPOHDEM_LANES void load_rows(const double* const* from, D& a, D& b, D& c, D& d) 
   b = join(b0, b1);
   c = join(c0, c1);
   d = join(d0, d1);
+}
+/// As lanes4::store_pairs and load_pairs, for lanes 0-3 and 4-7.
+PPOHDEM_LANES void store_pairs(D a, D b, double* const* to) {
+  lanes4::store_pairs(low(a), low(b), to);
+  lanes4::store_pairs(high(a), high(b), to + 4);
+}
+PPOHDEM_LANES void load_pairs(const double* const* from, D& a, D& b) {
+  lanes4::D a0, b0, a1, b1;
+  lanes4::load_pairs(from, a0, b0);
+  lanes4::load_pairs(from + 4, a1, b1);
+  a = join(a0, a1);
+  b = join(b0, b1);
 }
 #include "hertz_mindlin_lanes.inc"
 #undef PPOHDEM_LANES
