@@ -8,7 +8,6 @@
 // Label mpi; built only with PPOHDEM_ENABLE_MPI.
 #include <gtest/gtest.h>
 
-#include <Eigen/Geometry>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -19,10 +18,9 @@
 #include <vector>
 
 #include "../apps/cli_runner.hpp"
-#include "../objects/mesh_shapes.hpp"
 #include "bed_scene.hpp"
+#include "box_over_bed.hpp"
 #include "mpi_runner.hpp"
-#include "ppohdem/mesh/stl_io.hpp"
 
 namespace fs = std::filesystem;
 using ppohdem::test::CommandResult;
@@ -149,17 +147,8 @@ TEST(FramesInPartsMpi, ARankWithoutParticlesWritesNothingOfItsOwn) {
 TEST(FramesInPartsMpi, AMeshObjectIsDrawnAfterTheSpheres) {
   auto write = [](const fs::path& dir) {
     const fs::path scene = write_framed_bed(dir, 9, 9, 9, 40, 20);
-    const double a = 6e-3, top = 1.05e-3 + 2.1e-3 * 8 + 1e-3;
-    const ppohdem::Vec3 corner(9.45e-3 - a / 2, 9.45e-3 - a / 2, top);
-    ppohdem::write_stl(dir / "box.stl",
-                       ppohdem::dem::test::transformed(ppohdem::dem::test::box(a, 3), Eigen::Matrix3d::Identity(), corner),
-                       ppohdem::StlEncoding::kBinary);
-    const ppohdem::Vec3 centre = corner + ppohdem::Vec3::Constant(a / 2);
-    std::ofstream toml(scene, std::ios::app);
-    toml.precision(17);
-    toml << "[[object]]\nname = \"box\"\nmesh = \"box.stl\"\ncells = [16, 16, 16]\nmargin = 0.0025\n"
-         << "centroid = [" << centre.x() << ", " << centre.y() << ", " << centre.z() << "]\n"
-         << "[[object.motion]]\nstart = 0.0\ntype = \"rotate\"\naxis = [1.0, 0.0, 0.0]\nomega = 20.0\n";
+    ppohdem::test::append_box_over_bed(dir, scene,
+                                       "[[object.motion]]\nstart = 0.0\ntype = \"rotate\"\naxis = [1.0, 0.0, 0.0]\nomega = 20.0\n");
     return scene;
   };
   const fs::path one = expect_frames_as_one_process("mesh_object", write, 40, 20,

@@ -6,16 +6,14 @@
 // Label mpi; built only with PPOHDEM_ENABLE_MPI.
 #include <gtest/gtest.h>
 
-#include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "../apps/cli_runner.hpp"
-#include "../objects/mesh_shapes.hpp"
 #include "bed_scene.hpp"
+#include "box_over_bed.hpp"
 #include "mpi_runner.hpp"
-#include "ppohdem/mesh/stl_io.hpp"
 
 namespace fs = std::filesystem;
 using ppohdem::test::body;
@@ -31,18 +29,9 @@ namespace {
 // contacts' springs cross the switch at step 200.
 fs::path write_box_in_bed(const fs::path& dir, long steps) {
   const fs::path scene = ppohdem::test::write_bed(dir, 9, 9, 9, steps, 100);
-  const double a = 6e-3, top = 1.05e-3 + 2.1e-3 * 8 + 1e-3;
-  const ppohdem::Vec3 corner(9.45e-3 - a / 2, 9.45e-3 - a / 2, top);
-  ppohdem::write_stl(dir / "box.stl",
-                     ppohdem::dem::test::transformed(ppohdem::dem::test::box(a, 3), Eigen::Matrix3d::Identity(), corner),
-                     ppohdem::StlEncoding::kBinary);
-  const ppohdem::Vec3 centre = corner + ppohdem::Vec3::Constant(a / 2);
-  std::ofstream toml(scene, std::ios::app);
-  toml.precision(17);
-  toml << "[[object]]\nname = \"box\"\nmesh = \"box.stl\"\ncells = [16, 16, 16]\nmargin = 0.0025\n"
-       << "centroid = [" << centre.x() << ", " << centre.y() << ", " << centre.z() << "]\n"
-       << "[[object.motion]]\nstart = 0.0\ntype = \"translate\"\nvelocity = [0.0, 0.0, -0.5]\n"
-       << "[[object.motion]]\nstart = 0.002\ntype = \"rotate\"\naxis = [1.0, 0.0, 0.0]\nomega = 20.0\n";
+  ppohdem::test::append_box_over_bed(dir, scene,
+                                     "[[object.motion]]\nstart = 0.0\ntype = \"translate\"\nvelocity = [0.0, 0.0, -0.5]\n"
+                                     "[[object.motion]]\nstart = 0.002\ntype = \"rotate\"\naxis = [1.0, 0.0, 0.0]\nomega = 20.0\n");
   return scene;
 }
 
