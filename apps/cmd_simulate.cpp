@@ -241,7 +241,13 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   if (ranks > 1) run_options.comm = options.comm;
   run_options.time_step_limit = limit;  // of the setup with its particles (freed above)
   if (!options.restart.empty()) {
-    run_options.restart = std::make_shared<const dem::Checkpoint>(dem::read_checkpoint(options.restart));
+    if (ranks > 1) {  // each rank reads its parts only (docs/formats.md "Checkpoints")
+      dem::CheckpointShareRead mine = dem::read_checkpoint_share(options.restart, *options.comm);
+      run_options.restart = std::make_shared<const dem::Checkpoint>(std::move(mine.checkpoint));
+      if (mine.share) run_options.restart_share = std::make_shared<const dem::EngineStateShare>(std::move(*mine.share));
+    } else {
+      run_options.restart = std::make_shared<const dem::Checkpoint>(dem::read_checkpoint(options.restart));
+    }
   }
   std::optional<ThreadAlternation> alternation;
   if (!options.alternate_threads.empty()) {

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <tuple>
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -107,15 +109,20 @@ TEST(CheckpointPartsMpi, MissingOrForeignPartsAreRefused) {
   const fs::path manifest = dir / "out" / "checkpoint.bin";
   const fs::path part1 = dir / "out" / "checkpoint.bin.parts" / "step_0000000100.rank_1_of_2.bin";
   const std::string restart = "--quiet --restart '" + manifest.string() + "'";
+  // At 1 rank the parts are merged; at 2 and 3 ranks each rank reads its own (rank 2 none),
+  // and every rank must refuse alike, naming the part (none left waiting: the test ends).
+  const int rank_counts[] = {1, 2, 3};
   {  // a truncated part
     const std::vector<std::uint8_t> good = bytes_of(part1);
     std::ofstream(part1, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(good.data()), 1000);
-    const CommandResult r = run_mpi(1, 1, scene, restart);
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find(part1.string() + ": checkpoint part is truncated: the header announces " +
-                            std::to_string(good.size()) + " bytes, the file has 1000"),
-              std::string::npos)
-        << r.output;
+    for (const int ranks : rank_counts) {
+      const CommandResult r = run_mpi(ranks, 1, scene, restart);
+      EXPECT_NE(r.exit_code, 0) << ranks << " ranks";
+      EXPECT_NE(r.output.find(part1.string() + ": checkpoint part is truncated: the header announces " +
+                              std::to_string(good.size()) + " bytes, the file has 1000"),
+                std::string::npos)
+          << ranks << " ranks: " << r.output;
+    }
     std::ofstream(part1, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(good.data()),
                                                                     static_cast<std::streamsize>(good.size()));
   }
@@ -127,21 +134,134 @@ TEST(CheckpointPartsMpi, MissingOrForeignPartsAreRefused) {
     const std::vector<std::uint8_t> good = bytes_of(part1);
     fs::copy_file(other / "out" / "checkpoint.bin.parts" / "step_0000000060.rank_1_of_2.bin", part1,
                   fs::copy_options::overwrite_existing);
-    const CommandResult r = run_mpi(1, 1, scene, restart);
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find("checkpoint part: its CRC-32 differs from the one the manifest " + manifest.string() +
-                            " lists (a part of another checkpoint?)"),
-              std::string::npos)
-        << r.output;
+    for (const int ranks : rank_counts) {
+      const CommandResult r = run_mpi(ranks, 1, scene, restart);
+      EXPECT_NE(r.exit_code, 0) << ranks << " ranks";
+      EXPECT_NE(r.output.find("checkpoint part: its CRC-32 differs from the one the manifest " + manifest.string() +
+                              " lists (a part of another checkpoint?)"),
+                std::string::npos)
+          << ranks << " ranks: " << r.output;
+    }
     std::ofstream(part1, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(good.data()),
                                                                     static_cast<std::streamsize>(good.size()));
   }
   {  // a missing part
     fs::remove(part1);
-    const CommandResult r = run_mpi(1, 1, scene, restart);
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find(manifest.string() + ": checkpoint: part 1 of 2, " + part1.string() + ", does not exist"),
-              std::string::npos)
-        << r.output;
+    for (const int ranks : rank_counts) {
+      const CommandResult r = run_mpi(ranks, 1, scene, restart);
+      EXPECT_NE(r.exit_code, 0) << ranks << " ranks";
+      EXPECT_NE(r.output.find(manifest.string() + ": checkpoint: part 1 of 2, " + part1.string() + ", does not exist"),
+                std::string::npos)
+          << ranks << " ranks: " << r.output;
+    }
   }
+}
+
+namespace {
+
+// Rewrites part k of `manifest` through `edit` (a forged but well-framed part) and the
+// manifest's entry for it, so that only the restore's own checks can find what is wrong.
+template <class Edit>
+void forge_part(const fs::path& manifest, std::size_t k, Edit&& edit) {
+  namespace dem = ppohdem::dem;
+  dem::Checkpoint m = dem::decode_checkpoint(bytes_of(manifest), manifest.string());
+  const fs::path file = manifest.parent_path() / m.parts.at(k).file;
+  dem::CheckpointPart part = dem::decode_checkpoint_part(bytes_of(file), file.string());
+  edit(part);
+  const std::vector<std::uint8_t> bytes = dem::encode_checkpoint_part(part);
+  std::ofstream(file, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  dem::CheckpointPartEntry& entry = m.parts[k];
+  entry.particles = part.particles.size();
+  entry.contacts = part.contacts.size();
+  entry.escaped = part.escaped_ids.size();
+  entry.payload_crc = static_cast<std::uint32_t>(bytes[bytes.size() - 4]) | static_cast<std::uint32_t>(bytes[bytes.size() - 3]) << 8 |
+                      static_cast<std::uint32_t>(bytes[bytes.size() - 2]) << 16 | static_cast<std::uint32_t>(bytes[bytes.size() - 1]) << 24;
+  dem::write_checkpoint(manifest, m);
+}
+
+}  // namespace
+
+// Parts that frame and checksum well but whose contents do not fit the scene: the restore's
+// checks refuse them with the same words whether one rank merges the parts or 2 and 3 ranks
+// each place their own (restore_state against restore_state_share).
+TEST(CheckpointPartsMpi, ForgedPartsAreRefusedAtEveryRankCount) {
+  namespace dem = ppohdem::dem;
+  const fs::path dir = scratch("forged");
+  const fs::path scene = write_bed(dir, kNx, kNy, kNz, kSteps, kEvery);
+  const CommandResult first = run_mpi(2, 1, scene, "--quiet --steps 100 --checkpoint-every 100");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const fs::path manifest = dir / "out" / "checkpoint.bin";
+  const fs::path parts = dir / "out" / "checkpoint.bin.parts";
+  const std::string restart = "--quiet --restart '" + manifest.string() + "'";
+  // The good checkpoint, kept to start each case from.
+  const fs::path good = scratch("forged_good");
+  fs::copy(dir / "out", good, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  auto reset = [&] {
+    fs::copy(good / "checkpoint.bin", manifest, fs::copy_options::overwrite_existing);
+    fs::copy(good / "checkpoint.bin.parts", parts, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  };
+  auto refused_with = [&](const std::string& words) {
+    for (const int ranks : {1, 2, 3}) {
+      const CommandResult r = run_mpi(ranks, 1, scene, restart);
+      EXPECT_NE(r.exit_code, 0) << ranks << " ranks";
+      EXPECT_NE(r.output.find(words), std::string::npos) << ranks << " ranks: " << r.output;
+    }
+  };
+  std::int64_t unknown = 0;
+  {  // a pair history naming a particle id the checkpoint does not hold
+    forge_part(manifest, 0, [&](dem::CheckpointPart& p) {
+      for (dem::ContactHistoryRecord& c : p.contacts) {
+        if (c.kind != dem::ContactHistoryRecord::Kind::kParticlePair) continue;
+        c.id_b = unknown = 1000000;
+        return;
+      }
+      FAIL() << "no pair history in part 0";
+    });
+    refused_with("restore_state: contact names unknown particle id " + std::to_string(unknown));
+    reset();
+  }
+  {  // a pair history between particles far apart (the first particle and the one farthest from it)
+    forge_part(manifest, 0, [&](dem::CheckpointPart& p) {
+      std::size_t far = 0;
+      for (std::size_t i = 0; i < p.particles.size(); ++i) {
+        if ((p.particles[i].position - p.particles[0].position).norm() > (p.particles[far].position - p.particles[0].position).norm()) far = i;
+      }
+      for (dem::ContactHistoryRecord& c : p.contacts) {
+        if (c.kind != dem::ContactHistoryRecord::Kind::kParticlePair) continue;
+        c.id_a = std::min(p.particles[0].id, p.particles[far].id);
+        c.id_b = std::max(p.particles[0].id, p.particles[far].id);
+        break;
+      }
+      std::sort(p.contacts.begin(), p.contacts.end(), [](const auto& a, const auto& b) {
+        return std::tuple(a.kind, a.id_a, a.id_b) < std::tuple(b.kind, b.id_a, b.id_b);
+      });
+    });
+    refused_with("restore_state: a contact history joins particles that are not neighbours");
+    reset();
+  }
+  std::uint64_t twice = 0;
+  {  // a construction index in both parts (part 1's first particle claims part 0's first index)
+    dem::Checkpoint m = dem::decode_checkpoint(bytes_of(manifest), manifest.string());
+    const fs::path file0 = manifest.parent_path() / m.parts.at(0).file;
+    twice = dem::decode_checkpoint_part(bytes_of(file0), file0.string()).order.at(0);
+    forge_part(manifest, 1, [&](dem::CheckpointPart& p) { p.order.at(0) = twice; });
+    refused_with("construction index " + std::to_string(twice) + " appears in two parts");
+    reset();
+  }
+  {  // a particle of another size than the scene's
+    std::int64_t id = 0;
+    std::uint64_t index = 0;
+    forge_part(manifest, 1, [&](dem::CheckpointPart& p) {
+      p.particles.at(3).radius *= 1.01;
+      id = p.particles[3].id;
+      index = p.order[3];
+    });
+    refused_with("restore_state: particle " + std::to_string(index) + " (id " + std::to_string(id) +
+                 ") does not match the scene");
+    reset();
+  }
+  // The good checkpoint still restarts at 3 ranks (the cases above left nothing behind).
+  const CommandResult r = run_mpi(3, 1, scene, restart);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }

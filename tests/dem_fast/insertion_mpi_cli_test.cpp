@@ -3,7 +3,7 @@
 // 2,000 steps around a mesh object) run by `mpirun -n 2 ppohdem simulate --engine fast` writes
 // the same final.csv, energy.csv and insertions.csv, byte for byte (header lines aside), as the
 // REFERENCE engine on one rank; a checkpoint written at 2 ranks after some insertions restarts
-// at 1 rank and ends with the same files. Label mpi; built only with PPOHDEM_ENABLE_MPI.
+// at 1 and 3 ranks and ends with the same files. Label mpi; built only with PPOHDEM_ENABLE_MPI.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -34,7 +34,7 @@ CommandResult run_mpi(int ranks, const std::string& args) {
 
 // 6,000 steps: events at steps 0, 2000, 4000 and 6000 (25 particles each), the first ones
 // already falling onto the scoop and the floor.
-TEST(InsertionMpi, FillIsTheReferencesAtTwoRanksAndRestartsAtOne) {
+TEST(InsertionMpi, FillIsTheReferencesAtTwoRanksAndRestartsAtOneAndThree) {
   const fs::path root = ppohdem::test::scratch("insertion_mpi", "fill");
   const std::string steps = " --steps 6000 --quiet";
   const CommandResult ref = ppohdem::test::run_ppohdem("simulate '" + kScene.string() + "' --engine reference --output-dir '" +
@@ -52,10 +52,18 @@ TEST(InsertionMpi, FillIsTheReferencesAtTwoRanksAndRestartsAtOne) {
   const CommandResult first = run_mpi(2, "--engine fast --output-dir '" + parts.string() +
                                              "' --steps 4000 --checkpoint-every 4000 --quiet");
   ASSERT_EQ(first.exit_code, 0) << first.output;
-  const CommandResult second = run_mpi(1, "--engine fast --output-dir '" + parts.string() + "' --restart '" +
-                                              (parts / "checkpoint.bin").string() + "'" + steps);
-  ASSERT_EQ(second.exit_code, 0) << second.output;
-  for (const char* file : {"final.csv", "insertions.csv"}) {
-    EXPECT_EQ(body(parts / file), body(root / "reference" / file)) << file;
+  // Continued at 1 rank (the parts merged) and at 3 (each rank reads its parts; the inserted
+  // particles are shared out to every rank, as the insertion does), each from a copy.
+  for (const int ranks : {1, 3}) {
+    SCOPED_TRACE("restarted at " + std::to_string(ranks) + " ranks");
+    const fs::path again = root / ("parts_np" + std::to_string(ranks));
+    fs::remove_all(again);
+    fs::copy(parts, again, fs::copy_options::recursive);
+    const CommandResult second = run_mpi(ranks, "--engine fast --output-dir '" + again.string() + "' --restart '" +
+                                                    (again / "checkpoint.bin").string() + "'" + steps);
+    ASSERT_EQ(second.exit_code, 0) << second.output;
+    for (const char* file : {"final.csv", "insertions.csv"}) {
+      EXPECT_EQ(body(again / file), body(root / "reference" / file)) << file;
+    }
   }
 }

@@ -329,12 +329,16 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint& check
   writer.commit(/*sync_to_disk=*/true);
 }
 
-Checkpoint read_checkpoint(const std::filesystem::path& file) {
+Checkpoint read_checkpoint_manifest(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), 0, "cannot open the checkpoint file");
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw InputError(file.string(), 0, "cannot read the checkpoint file");
-  Checkpoint c = decode_checkpoint(bytes, file.string());
+  return decode_checkpoint(bytes, file.string());
+}
+
+Checkpoint read_checkpoint(const std::filesystem::path& file) {
+  Checkpoint c = read_checkpoint_manifest(file);
   if (!c.parts.empty()) checkpoint_codec::read_parts(c, file);
   return c;
 }

@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "checkpoint_codec.hpp"
+#include "checks_over_ranks.hpp"
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/checkpoint.hpp"
 #include "ppohdem/error.hpp"
@@ -141,6 +142,63 @@ CheckpointPart decode_checkpoint_part(const std::vector<std::uint8_t>& bytes, co
   return part;
 }
 
+namespace {
+
+// Part k's fields against the manifest's entry k: step, rank, count, total and list sizes.
+// `total`: the particle count the parts must agree on.
+void check_part(const Checkpoint& manifest, const CheckpointPart& p, std::size_t k, const std::string& source,
+                std::uint64_t total, const std::string& total_from) {
+  const std::size_t ranks = manifest.parts.size();
+  const CheckpointPartEntry& entry = manifest.parts[k];
+  auto fail = [&](const std::string& why) {
+    throw InputError(source, 0, std::string(kNoun) + ": " + why + "; the manifest expects part " +
+                                    std::to_string(k) + " of " + std::to_string(ranks) + " at step " +
+                                    std::to_string(manifest.engine.step) + " (a part of another checkpoint?)");
+  };
+  if (p.step != manifest.engine.step) fail("step " + std::to_string(p.step));
+  if (p.rank != k || p.ranks != ranks) fail("rank " + std::to_string(p.rank) + " of " + std::to_string(p.ranks));
+  if (p.total != total) fail("a total of " + std::to_string(p.total) + " particles, " + total_from + " " + std::to_string(total));
+  if (p.particles.size() != entry.particles || p.contacts.size() != entry.contacts ||
+      p.escaped_ids.size() != entry.escaped) {
+    fail(std::to_string(p.particles.size()) + " particles, " + std::to_string(p.contacts.size()) + " contacts, " +
+         std::to_string(p.escaped_ids.size()) + " escaped ids; the manifest lists " + std::to_string(entry.particles) +
+         ", " + std::to_string(entry.contacts) + ", " + std::to_string(entry.escaped));
+  }
+}
+
+// Part k of the manifest `file` names, read, decoded and matched to its entry's CRC-32.
+CheckpointPart read_part(const Checkpoint& c, const fs::path& manifest, std::size_t k, std::string& source) {
+  const CheckpointPartEntry& entry = c.parts[k];
+  const fs::path name(entry.file);
+  const bool plain = !name.empty() && name.is_relative() &&
+                     std::none_of(name.begin(), name.end(), [](const fs::path& step) { return step == ".."; });
+  if (!plain) {
+    throw InputError(manifest.string(), 0, "checkpoint: part " + std::to_string(k) + " is named '" + entry.file +
+                                               "', expected a path relative to the manifest's directory");
+  }
+  const fs::path file = manifest.parent_path() / name;
+  source = file.string();
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {
+    throw InputError(manifest.string(), 0, "checkpoint: part " + std::to_string(k) + " of " +
+                                               std::to_string(c.parts.size()) + ", " + file.string() +
+                                               ", does not exist (a checkpoint is the manifest with its "
+                                               "directory of parts; copy both)");
+  }
+  const std::vector<std::uint8_t> bytes = read_bytes(file, "checkpoint part");
+  CheckpointPart part = decode_checkpoint_part(bytes, file.string());
+  // Decoded: the last 4 bytes are the payload CRC-32, checked; it must be the manifest's.
+  Reader trailer(bytes.data() + bytes.size() - 4, 4, file.string(), bytes.size() - 4, kNoun);
+  const std::uint32_t crc = trailer.u32("payload CRC-32");
+  if (crc != entry.payload_crc) {
+    throw InputError(file.string(), 0, "checkpoint part: its CRC-32 differs from the one the manifest " +
+                                           manifest.string() + " lists (a part of another checkpoint?)");
+  }
+  return part;
+}
+
+}  // namespace
+
 void merge_checkpoint_parts(Checkpoint& manifest, const std::vector<CheckpointPart>& parts,
                             const std::vector<std::string>& sources) {
   const std::size_t ranks = manifest.parts.size();
@@ -149,26 +207,11 @@ void merge_checkpoint_parts(Checkpoint& manifest, const std::vector<CheckpointPa
                      std::to_string(ranks));
   }
   EngineState& e = manifest.engine;
-  std::uint64_t total = 0, sum = 0;
+  const std::uint64_t total = ranks == 0 ? 0 : parts[0].total;
+  std::uint64_t sum = 0;
   for (std::size_t k = 0; k < ranks; ++k) {
-    const CheckpointPart& p = parts[k];
-    const CheckpointPartEntry& entry = manifest.parts[k];
-    auto fail = [&](const std::string& why) {
-      throw InputError(sources[k], 0, std::string(kNoun) + ": " + why + "; the manifest expects part " +
-                                          std::to_string(k) + " of " + std::to_string(ranks) + " at step " +
-                                          std::to_string(e.step) + " (a part of another checkpoint?)");
-    };
-    if (p.step != e.step) fail("step " + std::to_string(p.step));
-    if (p.rank != k || p.ranks != ranks) fail("rank " + std::to_string(p.rank) + " of " + std::to_string(p.ranks));
-    if (k == 0) total = p.total;
-    if (p.total != total) fail("a total of " + std::to_string(p.total) + " particles, part 0 has " + std::to_string(total));
-    if (p.particles.size() != entry.particles || p.contacts.size() != entry.contacts ||
-        p.escaped_ids.size() != entry.escaped) {
-      fail(std::to_string(p.particles.size()) + " particles, " + std::to_string(p.contacts.size()) + " contacts, " +
-           std::to_string(p.escaped_ids.size()) + " escaped ids; the manifest lists " + std::to_string(entry.particles) +
-           ", " + std::to_string(entry.contacts) + ", " + std::to_string(entry.escaped));
-    }
-    sum += p.particles.size();
+    check_part(manifest, parts[k], k, sources[k], total, "part 0 has");
+    sum += parts[k].particles.size();
   }
   if (sum != total) {
     throw InputError(sources.front(), 0, std::string(kNoun) + ": the parts hold " + std::to_string(sum) +
@@ -199,36 +242,8 @@ namespace checkpoint_codec {
 
 void read_parts(Checkpoint& c, const fs::path& manifest) {
   std::vector<CheckpointPart> parts;
-  std::vector<std::string> sources;
-  for (std::size_t k = 0; k < c.parts.size(); ++k) {
-    const CheckpointPartEntry& entry = c.parts[k];
-    const fs::path name(entry.file);
-    const bool plain = !name.empty() && name.is_relative() &&
-                       std::none_of(name.begin(), name.end(), [](const fs::path& step) { return step == ".."; });
-    if (!plain) {
-      throw InputError(manifest.string(), 0, "checkpoint: part " + std::to_string(k) + " is named '" + entry.file +
-                                                 "', expected a path relative to the manifest's directory");
-    }
-    const fs::path file = manifest.parent_path() / name;
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) {
-      throw InputError(manifest.string(), 0, "checkpoint: part " + std::to_string(k) + " of " +
-                                                 std::to_string(c.parts.size()) + ", " + file.string() +
-                                                 ", does not exist (a checkpoint is the manifest with its "
-                                                 "directory of parts; copy both)");
-    }
-    const std::vector<std::uint8_t> bytes = read_bytes(file, "checkpoint part");
-    CheckpointPart part = decode_checkpoint_part(bytes, file.string());
-    // Decoded: the last 4 bytes are the payload CRC-32, checked; it must be the manifest's.
-    Reader trailer(bytes.data() + bytes.size() - 4, 4, file.string(), bytes.size() - 4, kNoun);
-    const std::uint32_t crc = trailer.u32("payload CRC-32");
-    if (crc != entry.payload_crc) {
-      throw InputError(file.string(), 0, "checkpoint part: its CRC-32 differs from the one the manifest " +
-                                             manifest.string() + " lists (a part of another checkpoint?)");
-    }
-    parts.push_back(std::move(part));
-    sources.push_back(file.string());
-  }
+  std::vector<std::string> sources(c.parts.size());
+  for (std::size_t k = 0; k < c.parts.size(); ++k) parts.push_back(read_part(c, manifest, k, sources[k]));
   merge_checkpoint_parts(c, parts, sources);
 }
 
@@ -295,6 +310,58 @@ void write_checkpoint_parts(const fs::path& file, Checkpoint checkpoint, EngineS
       fs::remove(it->path(), rm);
     }
   }
+}
+
+CheckpointShareRead read_checkpoint_share(const fs::path& file, const Comm& comm) {
+  CheckpointShareRead out;
+  out.checkpoint = read_checkpoint_manifest(file);
+  Checkpoint& c = out.checkpoint;
+  if (c.parts.empty()) return out;  // a single file: the whole state, on every rank
+  EngineStateShare share;
+  share.state = c.engine;  // the global fields; the lists come from the parts
+  for (const CheckpointPartEntry& entry : c.parts) share.total += entry.particles;
+  // Rank r reads the parts r, r + P, ...; a rank that fails names its first failing part, and
+  // every rank throws the earliest part's error (no rank is left waiting in a collective).
+  std::optional<PlacedError> failure;
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  for (std::size_t k = static_cast<std::size_t>(comm.rank()); k < c.parts.size() && !failure; k += ranks) {
+    try {
+      std::string source;
+      CheckpointPart part = read_part(c, file, k, source);
+      check_part(c, part, k, source, share.total, "the manifest's parts hold");
+      EngineState& e = share.state;
+      share.order.insert(share.order.end(), part.order.begin(), part.order.end());
+      e.particles.insert(e.particles.end(), part.particles.begin(), part.particles.end());
+      e.contacts.insert(e.contacts.end(), part.contacts.begin(), part.contacts.end());
+      e.escaped_ids.insert(e.escaped_ids.end(), part.escaped_ids.begin(), part.escaped_ids.end());
+    } catch (const InputError& e) {
+      failure = PlacedError{k, e};
+    }
+  }
+  throw_earliest_error(comm, failure);
+  c.parts.clear();
+  out.share = std::move(share);
+  return out;
+}
+
+Particles share_particles_from(const EngineStateShare& share, std::uint64_t first, const Comm& comm) {
+  Writer mine;
+  for (std::size_t i = 0; i < share.state.particles.size(); ++i) {
+    if (share.order[i] < first) continue;
+    mine.u64(share.order[i]);
+    checkpoint_codec::put_particle(mine, share.state.particles[i]);
+  }
+  Particles out(share.total > first ? static_cast<std::size_t>(share.total - first) : 0);
+  for (const Bytes& block : comm.allgather(Bytes(mine.bytes.begin(), mine.bytes.end()))) {
+    const std::vector<std::uint8_t> bytes(block.begin(), block.end());
+    Reader r(bytes.data(), bytes.size(), "checkpoint share", 0);
+    while (!r.done()) {
+      const std::uint64_t o = r.u64("construction index");
+      if (o < first || o >= share.total) r.fail("construction index out of range");
+      checkpoint_codec::get_particle(r, out[static_cast<std::size_t>(o - first)]);
+    }
+  }
+  return out;
 }
 
 }  // namespace ppohdem::dem

@@ -112,4 +112,47 @@ std::size_t first_repeated_id(const Comm& comm, const Particles& mine, std::size
   return static_cast<std::size_t>(repeat);
 }
 
+std::optional<std::int64_t> first_unknown_id(const Comm& comm, const std::vector<std::int64_t>& known,
+                                             const std::vector<std::int64_t>& asked) {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  std::vector<Bytes> to(ranks);
+  for (const std::int64_t id : known) {
+    Bytes& block = to[mix(static_cast<std::uint64_t>(id)) % ranks];
+    put(block, std::uint8_t{0});
+    put(block, id);
+  }
+  for (const std::int64_t id : asked) {
+    Bytes& block = to[mix(static_cast<std::uint64_t>(id)) % ranks];
+    put(block, std::uint8_t{1});
+    put(block, id);
+  }
+  std::vector<std::int64_t> here, questions;
+  for (const Bytes& b : comm.exchange(to)) {
+    for (const unsigned char* at = b.data(); at < b.data() + b.size();) {
+      const auto asking = take<std::uint8_t>(at);
+      (asking ? questions : here).push_back(take<std::int64_t>(at));
+    }
+  }
+  std::sort(here.begin(), here.end());
+  std::int64_t unknown = std::numeric_limits<std::int64_t>::max();
+  std::uint8_t found = 0;
+  for (const std::int64_t id : questions) {
+    if (!std::binary_search(here.begin(), here.end(), id) && (!found || id < unknown)) {
+      unknown = id;
+      found = 1;
+    }
+  }
+  Bytes mine;
+  put(mine, found);
+  put(mine, unknown);
+  std::optional<std::int64_t> first;
+  for (const Bytes& b : comm.allgather(mine)) {
+    const unsigned char* at = b.data();
+    const bool has = take<std::uint8_t>(at) != 0;
+    const auto id = take<std::int64_t>(at);
+    if (has && (!first || id < *first)) first = id;
+  }
+  return first;
+}
+
 }  // namespace ppohdem::dem

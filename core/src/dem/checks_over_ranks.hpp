@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/particle.hpp"
@@ -32,5 +33,10 @@ inline constexpr std::size_t kNoRepeat = std::numeric_limits<std::size_t>::max()
 /// need one allgather of each share's first and last id; otherwise each (id, index) goes to the
 /// rank its id hashes to, which finds the repeats among its ids.
 std::size_t first_repeated_id(const Comm& comm, const Particles& mine, std::size_t first);
+
+/// Collective: the smallest of the ids `asked` on any rank that no rank lists in `known`, or
+/// none. Each id goes to the rank it hashes to, which compares the two sets there.
+std::optional<std::int64_t> first_unknown_id(const Comm& comm, const std::vector<std::int64_t>& known,
+                                             const std::vector<std::int64_t>& asked);
 
 }  // namespace ppohdem::dem

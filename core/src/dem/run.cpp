@@ -270,11 +270,17 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     }
     insertion.restore(c.insertion, source);  // first: other [[insert]] tables are refused by name
     // Particles inserted before the checkpoint: appended first (restore_state sets their state).
-    if (const std::size_t now = engine.particles().size(); insertion.active() && c.engine.particles.size() > now) {
-      const auto first_new = c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now);
-      engine.insert_particles(Particles(first_new, c.engine.particles.end()));
+    const std::size_t now = engine.particle_count();
+    if (const auto* share = options.restart_share.get()) {  // several ranks, each with its parts
+      if (insertion.active() && share->total > now) engine.insert_particles(share_particles_from(*share, now, *options.comm));
+      engine.restore_state_share(*share);
+    } else {
+      if (insertion.active() && c.engine.particles.size() > now) {
+        const auto first_new = c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now);
+        engine.insert_particles(Particles(first_new, c.engine.particles.end()));
+      }
+      engine.restore_state(c.engine);
     }
-    engine.restore_state(c.engine);
     check_object_poses(scene, c, engine.time(), source);
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
       outside_offset[o] = static_cast<std::int64_t>(c.objects[o].outside_grid) -

@@ -32,6 +32,7 @@
 /// read_checkpoint reads the parts and merges them into the whole state (any rank count).
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,28 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint& check
 /// the part for a missing or damaged part, a part of another checkpoint (step, rank, count,
 /// CRC-32 not the manifest's), or parts that do not cover every particle exactly once.
 Checkpoint read_checkpoint(const std::filesystem::path& file);
+/// The file alone, decoded: a manifest keeps its table of parts (their lists are not read).
+Checkpoint read_checkpoint_manifest(const std::filesystem::path& file);
+
+/// What one rank of several reads of a checkpoint (read_checkpoint_share).
+struct CheckpointShareRead {
+  /// A manifest: its fields, with the three engine lists and the table of parts empty. A
+  /// single file: the whole checkpoint.
+  Checkpoint checkpoint;
+  /// A manifest's: this rank's share, the lists of the parts it read, in state (the global
+  /// fields are the manifest's), total = the manifest's particle count. A single file: none.
+  std::optional<EngineStateShare> share;
+};
+/// Collective over `comm`: every rank reads the checkpoint file; of a manifest, rank r of P
+/// reads only the parts r, r + P, r + 2P, ..., each checked as read_checkpoint checks it (its
+/// file, CRC-32, step, rank, counts, and the total of the manifest's counts). If a rank finds an
+/// error, every rank throws the error of the lowest part. No rank holds the whole state:
+/// DemEngine::restore_state_share places the shares (docs/formats.md "Checkpoints").
+CheckpointShareRead read_checkpoint_share(const std::filesystem::path& file, const Comm& comm);
+/// Collective: the particles of construction index >= `first` in all the ranks' shares, in
+/// construction order, on every rank (a restart's particles inserted after step 0: the insertion
+/// appends them on every rank).
+Particles share_particles_from(const EngineStateShare& share, std::uint64_t first, const Comm& comm);
 
 /// The bytes of a part file; decoding throws InputError(source, 0, "checkpoint part: ...")
 /// like decode_checkpoint, and for a rank >= ranks or a construction index >= total.

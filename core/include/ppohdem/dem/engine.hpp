@@ -132,6 +132,8 @@ class DemEngine {
   virtual double time() const = 0;  ///< [s] = step_count * dt
   /// Particles in the order given at construction; force/torque from the last evaluation.
   virtual const Particles& particles() const = 0;
+  /// How many particles particles() holds (over all the ranks), without gathering them.
+  virtual std::size_t particle_count() const { return particles().size(); }
   /// The particles this rank owns, in construction order: with several ranks (the fast
   /// engine's decomposition) a part of particles(), not collective (per-rank output pieces).
   virtual Particles owned_particles() const { return particles(); }
@@ -191,6 +193,13 @@ class DemEngine {
   /// particle ids in the same order, same boundaries, same dt): throws InputError otherwise.
   virtual void restore_state(const EngineState& /*state*/) {
     throw InputError("engine '" + name() + "' does not support checkpoints (restore_state)");
+  }
+  /// Continue from a state spread over the ranks: `share` is this rank's (a checkpoint's parts
+  /// it read, read_checkpoint_share), the shares of all ranks together the whole state, in any
+  /// split. Collective; the same result and checks as restore_state of the merged state, with
+  /// no rank holding it. Default: engines that run on one rank restore from checkpoint files.
+  virtual void restore_state_share(const EngineStateShare& /*share*/) {
+    throw InputError("engine '" + name() + "' restores a checkpoint's parts only through restore_state");
   }
   /// Particle insertion (insertion.hpp): appends `added` after the existing particles (so
   /// particles() lists them last, in this order), with zero force and torque. The caller

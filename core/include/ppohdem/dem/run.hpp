@@ -58,6 +58,10 @@ struct RunOptions {
   long checkpoint_every = 0;  ///< steps between checkpoints; 0 = none
   /// Continue from this checkpoint (read_checkpoint) instead of step 0.
   std::shared_ptr<const Checkpoint> restart;
+  /// Several ranks restarting from a checkpoint's parts (read_checkpoint_share): this rank's
+  /// share of the engine state, restored by DemEngine::restore_state_share; `restart` then
+  /// holds the manifest's other fields. nullptr: `restart` holds the whole state.
+  std::shared_ptr<const EngineStateShare> restart_share;
   std::string scene_name;  ///< recorded in checkpoints (information)
   /// Several ranks (an engine decomposed over them, e.g. fast::FastOptions::comm): every rank
   /// calls run_scene; the engine's queries are collective and global, rank 0 alone writes the

@@ -54,6 +54,11 @@ struct ParticleShare {
 inline std::size_t even_part_first(std::size_t total, std::size_t parts, std::size_t k) {
   return total / parts * k + std::min(k, total % parts);
 }
+/// The part k that holds item `index` < total (the inverse of even_part_first).
+inline std::size_t even_part_of(std::size_t total, std::size_t parts, std::size_t index) {
+  const std::size_t base = total / parts, bigger = total % parts;  // the first `bigger` parts hold base + 1
+  return index < bigger * (base + 1) ? index / (base + 1) : bigger + (index - bigger * (base + 1)) / base;
+}
 
 struct SimulationSetup {
   double dt = 0.0;                 ///< time step [s]

@@ -248,12 +248,29 @@ struct FastEngine::Impl {
   /// The same from this rank's share of the file (SimulationSetup::share; collective): the
   /// bricks from all the shares, then the shares migrate to their owners.
   void load_share(const Particles& particles, const ParticleShare& share);
+  /// load_share's placing, with `carried` (what share's particles carry, in their order; or
+  /// empty: nothing) and `escaped_flags` (nonzero: escaped; or null: none) migrating with them: on
+  /// return `carried` is the owned particles'. The lists are left as they were (reset_lists,
+  /// then build_from, make them).
+  void place_share(const Particles& particles, const ParticleShare& share, History& carried,
+                   const std::vector<std::uint8_t>* escaped_flags = nullptr);
   /// Empties every per-particle array and what was built from them (load_particles, load_share).
   void clear_particles();
   /// Appends a particle as owned, with its construction index.
   void append_owned(const Particle& p, std::size_t original);
   /// After the owned particles are in place: the empty lists and exchanges they start from.
   void reset_lists();
+
+  /// A restore's counters and accumulators from `state` (restore_state, restore_state_share);
+  /// `escaped_total`: the escaped particles over all the ranks.
+  void restore_counters(const EngineState& state, std::size_t escaped_total);
+  /// A restore's last fields, once the histories are installed: the contact counts, the caches.
+  void finish_restore(const EngineState& state);
+
+  /// The lists of the owned particles as placed (a list build after its migration): the cell
+  /// sort, the ghosts, the search, h's histories installed (those whose pair is no longer
+  /// listed go to lost_terms; build_lists books them).
+  void build_from(const History& h);
 
   /// h := what the owned particles carry across the build (History); h's storage is reused.
   void take_history(History& h) const;

@@ -161,17 +161,8 @@ void FastEngine::restore_state(const EngineState& state) {
     }
   }
   m.load_particles(state.particles);
-  m.steps = state.step;
-  m.dissipated = state.accumulators.dissipated;
-  m.boundary_work = state.accumulators.boundary_work;
-  m.loads = state.boundary_loads;
-  m.loads_stale = false;
-  m.power = state.boundary_power;
-  m.escaped = state.escaped_ids.size();
-  s.deepest.reset();  // of the evaluation before the checkpoint: not saved (as the reference)
+  m.restore_counters(state, state.escaped_ids.size());
   m.build_lists();
-  s.pair_contacts = state.contact_counts.particle_pairs;
-  s.boundary_contacts = state.contact_counts.particle_boundary;
   std::unordered_map<std::int64_t, std::uint32_t> where;  // id -> storage index (owned and ghosts)
   for (std::size_t k = 0; k < s.size(); ++k) where[s.id[k]] = static_cast<std::uint32_t>(k);
   auto owned_index = [&](std::int64_t id) -> std::optional<std::size_t> {
@@ -225,9 +216,26 @@ void FastEngine::restore_state(const EngineState& state) {
   s.record_first.assign(s.owned + 1, 0);
   for (const BoundaryRecord& r : s.records) ++s.record_first[r.particle + 1];
   for (std::size_t i = 0; i < s.owned; ++i) s.record_first[i + 1] += s.record_first[i];
-  m.out_valid = false;
-  m.energies_cache.reset();
-  m.restored_elastic = state.accumulators.elastic;  // the particles' records start at zero
+  m.finish_restore(state);
+}
+
+void FastEngine::Impl::restore_counters(const EngineState& state, std::size_t escaped_total) {
+  steps = state.step;
+  dissipated = state.accumulators.dissipated;
+  boundary_work = state.accumulators.boundary_work;
+  loads = state.boundary_loads;
+  loads_stale = false;
+  power = state.boundary_power;
+  escaped = escaped_total;
+  s.deepest.reset();  // of the evaluation before the checkpoint: not saved (as the reference)
+}
+
+void FastEngine::Impl::finish_restore(const EngineState& state) {
+  s.pair_contacts = state.contact_counts.particle_pairs;
+  s.boundary_contacts = state.contact_counts.particle_boundary;
+  out_valid = false;
+  energies_cache.reset();
+  restored_elastic = state.accumulators.elastic;  // the particles' records start at zero
 }
 
 }  // namespace ppohdem::dem::fast

@@ -119,16 +119,8 @@ namespace {
 
 // An owned particle with its construction index, for a gather of particles().
 void pack_output(Packer& pk, const FastState& s, std::size_t k) {
-  const Particle p = particle_at(s, k);
   pk.put(s.original[k]);
-  pk.put(p.id);
-  pk.put(p.position);
-  pk.put(p.velocity);
-  pk.put(p.angular_velocity);
-  pk.put(p.radius);
-  pk.put(p.material);
-  pk.put(p.force);
-  pk.put(p.torque);
+  put_particle(pk, particle_at(s, k));
 }
 
 // pack_output's records in `block`, each given to put(construction index, particle).
@@ -137,16 +129,7 @@ void unpack_outputs(const Bytes& block, Put&& put) {
   Unpacker u(block);
   while (!u.done()) {
     const auto o = u.get<std::uint32_t>();
-    Particle p;
-    u.get(p.id);
-    u.get(p.position);
-    u.get(p.velocity);
-    u.get(p.angular_velocity);
-    u.get(p.radius);
-    u.get(p.material);
-    u.get(p.force);
-    u.get(p.torque);
-    put(o, p);
+    put(o, get_particle(u));
   }
 }
 
@@ -184,13 +167,9 @@ DemEngine::OrderedPart FastEngine::ordered_part() const {
   const FastState& s = m.s;
   const auto ranks = static_cast<std::size_t>(m.comm->size()), me = static_cast<std::size_t>(m.comm->rank());
   auto first_of = [&](std::size_t r) { return even_part_first(m.total, ranks, r); };
-  const std::size_t base = m.total / ranks, bigger = m.total % ranks;  // the first `bigger` ranks hold base + 1
-  auto rank_of = [&](std::size_t o) {  // the inverse of first_of
-    return o < bigger * (base + 1) ? o / (base + 1) : bigger + (o - bigger * (base + 1)) / base;
-  };
   std::vector<Bytes> to(ranks);
   for (std::size_t k = 0; k < s.owned; ++k) {
-    Packer pk(to[rank_of(s.original[k])]);
+    Packer pk(to[even_part_of(m.total, ranks, s.original[k])]);
     pack_output(pk, s, k);
   }
   OrderedPart part;
@@ -202,6 +181,8 @@ DemEngine::OrderedPart FastEngine::ordered_part() const {
   }
   return part;
 }
+
+std::size_t FastEngine::particle_count() const { return impl_->total; }
 
 Energies FastEngine::energies() const {
   // The reference's terms, summed exactly and rounded once (exact_sum.hpp): the same bits

@@ -70,12 +70,20 @@ void FastEngine::Impl::load_particles(const Particles& particles) {
 }
 
 void FastEngine::Impl::load_share(const Particles& particles, const ParticleShare& share) {
+  History none;  // nothing carried yet
+  place_share(particles, share, none);
+  reset_lists();
+}
+
+void FastEngine::Impl::place_share(const Particles& particles, const ParticleShare& share, History& carried,
+                                   const std::vector<std::uint8_t>* escaped_flags) {
   clear_particles();
   total = share.total;
   r_max = 0.0;
   for (const Particle& p : particles) r_max = std::max(r_max, p.radius);
   r_max = comm->max_over_ranks(r_max);  // exact: a maximum
   for (std::size_t i = 0; i < particles.size(); ++i) append_owned(particles[i], share.first + i);
+  if (escaped_flags) s.escaped_via.assign(escaped_flags->begin(), escaped_flags->end());  // (only the warning uses the boundary)
   s.owned = s.id.size();
   // The bricks of all the shares: equal ones over the box of every centre (minima and maxima:
   // the same bits as from all the centres on one rank), and the bisection of the shares'
@@ -97,11 +105,12 @@ void FastEngine::Impl::load_share(const Particles& particles, const ParticleShar
                       ? Decomposition::bisection(comm->size(), s.x, s.id, s.owned, *comm)
                       : equal_bricks;
   update_peers();
-  History none;  // nothing carried yet
-  none.first.assign(s.owned + 1, 0);
-  none.record_first.assign(s.owned + 1, 0);
-  migrate(none, /*global=*/true);
-  reset_lists();
+  if (carried.first.size() != s.owned + 1) {  // nothing carried
+    carried = History{};
+    carried.first.assign(s.owned + 1, 0);
+    carried.record_first.assign(s.owned + 1, 0);
+  }
+  migrate(carried, /*global=*/true);
 }
 
 void FastEngine::Impl::migrate(History& h, bool global) {

@@ -17,6 +17,11 @@ void FastEngine::Impl::build_lists() {
     migrate(h);
     rebalance(h);
   }
+  build_from(h);
+  add_lost_energy();
+}
+
+void FastEngine::Impl::build_from(const History& h) {
   const CellOrder sorted = sort_owned_by_cell();
   make_ghosts();
   // With one rank there are no ghosts: the search's cells are the sort's (the same grid,
@@ -26,7 +31,6 @@ void FastEngine::Impl::build_lists() {
   mark_near_boundaries();
   mark_screen_gaps();
   s.split_stale = true;  // the kernel's ranges are cut afresh for the new order
-  add_lost_energy();
 }
 
 void FastEngine::Impl::mark_screen_gaps() {

@@ -10,6 +10,7 @@
 
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/contact_force.hpp"
+#include "ppohdem/dem/particle.hpp"
 
 namespace ppohdem::dem::fast {
 
@@ -92,5 +93,30 @@ class Unpacker {
   const Bytes& in_;
   std::size_t pos_ = 0;
 };
+
+/// A Particle's fields, in its declaration order.
+inline void put_particle(Packer& p, const Particle& q) {
+  p.put(q.id);
+  p.put(q.position);
+  p.put(q.velocity);
+  p.put(q.angular_velocity);
+  p.put(q.radius);
+  p.put(q.material);
+  p.put(q.force);
+  p.put(q.torque);
+}
+
+inline Particle get_particle(Unpacker& u) {
+  Particle q;
+  u.get(q.id);
+  u.get(q.position);
+  u.get(q.velocity);
+  u.get(q.angular_velocity);
+  u.get(q.radius);
+  u.get(q.material);
+  u.get(q.force);
+  u.get(q.torque);
+  return q;
+}
 
 }  // namespace ppohdem::dem::fast

@@ -177,6 +177,8 @@ class FastEngine final : public DemEngine {
   EngineState save_state() const override;
   EngineStateShare save_state_share() const override;
   void restore_state(const EngineState& state) override;
+  void restore_state_share(const EngineStateShare& share) override;
+  std::size_t particle_count() const override;
   /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): the whole state with
   /// the new particles appended is restored (a list build; collective with several ranks).
   void insert_particles(const Particles& added) override;
