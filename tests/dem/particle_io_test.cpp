@@ -344,5 +344,21 @@ TEST(ParticleIo, OverlappingPairsOfAFarApartPairAndOfALattice) {
   EXPECT_EQ(pairs.size(), 3u * 7u * 64u);  // 7 neighbour pairs per row, 64 rows, 3 axes
 }
 
+// even_part_of is even_part_first's inverse: every item of every split, against the parts'
+// ranges counted out one by one (the split a piped file's shares and a restart's blocks use).
+TEST(ParticleIo, EvenPartOfFindsThePartOfEveryItem) {
+  for (std::size_t total = 1; total <= 40; ++total) {
+    for (std::size_t parts = 1; parts <= 12; ++parts) {
+      std::size_t part = 0, left = total / parts + (0 < total % parts ? 1 : 0);  // part 0's size
+      for (std::size_t index = 0; index < total; ++index) {
+        while (left == 0) left = total / parts + (++part < total % parts ? 1 : 0);
+        ASSERT_EQ(even_part_of(total, parts, index), part) << total << " items, " << parts << " parts, item " << index;
+        ASSERT_LE(even_part_first(total, parts, part), index);
+        --left;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ppohdem::dem::test
