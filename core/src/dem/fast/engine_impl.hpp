@@ -462,4 +462,9 @@ struct FastEngine::Impl {
   void step();
 };
 
+/// Continues `m` from the ranks' shares of a state whose first `scene_particles` particles (in
+/// construction order) are m's, checked against them, and any after them new
+/// (restore_from_shares.cpp: FastEngine::restore_state_share, insert_particles). Collective.
+void restore_shares(FastEngine::Impl& m, const EngineStateShare& share, std::size_t scene_particles);
+
 }  // namespace ppohdem::dem::fast

@@ -1,7 +1,7 @@
 // Particle insertion in the fast engine (DemEngine::insert_particles; docs/objects.md
-// "Particle insertion"): rare events, so the simplest exact way: the whole state, with the new
-// particles appended in construction order, goes through restore_state, whose bitwise
-// continuation is the checkpoints' contract.
+// "Particle insertion"): rare events, so the simplest exact way: each rank's share of the
+// state, with the new particles appended in construction order, goes through the restart from
+// shares, whose bitwise continuation is the checkpoints' contract; no rank gathers the state.
 #include "engine_impl.hpp"
 
 namespace ppohdem::dem::fast {
@@ -9,23 +9,30 @@ namespace ppohdem::dem::fast {
 void FastEngine::insert_particles(const Particles& added) {
   if (added.empty()) return;
   Impl& m = *impl_;
-  EngineState state = save_state();  // whole system, on every rank (collective)
-  for (Particle p : added) {
+  for (const Particle& p : added) {
     if (p.material >= m.materials.size()) throw InputError("insert_particles: material index out of range");
+  }
+  EngineStateShare share = save_state_share();  // this rank's (collective, no gather)
+  const std::size_t before = m.total;
+  const auto ranks = static_cast<std::size_t>(m.comm->size()), me = static_cast<std::size_t>(m.comm->rank());
+  double r_max = 0.0;
+  for (const Particle& p : share.state.particles) r_max = std::max(r_max, p.radius);
+  for (std::size_t i = 0; i < added.size(); ++i) {  // `added` is the same on every rank: each takes every P-th
+    r_max = std::max(r_max, added[i].radius);
+    if (i % ranks != me) continue;
+    Particle p = added[i];
     p.force.setZero();  // they touch nothing: zero force, the others' forces stand
     p.torque.setZero();
-    state.particles.push_back(p);
+    share.state.particles.push_back(p);
+    share.order.push_back(before + i);
   }
+  share.total = before + added.size();
   // The bricks over all centres now (a fill starts from few or no particles): the reload
   // re-cuts them, and makes the equal bricks (balance off) over the new box too; no result
   // depends on them.
   m.equal_bricks_made = false;
-  double r_max = 0.0;
-  for (const Particle& p : state.particles) r_max = std::max(r_max, p.radius);
-  m.skin = std::max(m.skin, m.skin_fraction * r_max);  // the list's skin for the largest radius
-  m.out = state.particles;  // restore_state checks the state against particles(): these now
-  m.out_valid = true;
-  restore_state(state);
+  m.skin = std::max(m.skin, m.skin_fraction * m.comm->max_over_ranks(r_max));  // the list's skin for the largest radius
+  restore_shares(m, share, before);
 }
 
 }  // namespace ppohdem::dem::fast

@@ -23,26 +23,33 @@ struct Arrival {
 
 void FastEngine::restore_state_share(const EngineStateShare& share) {
   Impl& m = *impl_;
+  if (share.total != m.total) {
+    throw InputError("checkpoint: " + std::to_string(share.total) + " particles, the scene has " + std::to_string(m.total));
+  }
+  restore_shares(m, share, m.total);
+}
+
+void restore_shares(FastEngine::Impl& m, const EngineStateShare& share, std::size_t scene_particles) {
   FastState& s = m.s;
   const Comm& comm = *m.comm;
   const EngineState& state = share.state;
   // The fields every rank has alike: every rank throws alike.
   if (state.dt != s.dt) throw InputError("restore_state: the checkpoint's dt differs from the scene's");
-  if (share.total != m.total) {
-    throw InputError("checkpoint: " + std::to_string(share.total) + " particles, the scene has " + std::to_string(m.total));
-  }
   if (state.boundary_loads.size() != s.boundaries.size()) {
     throw InputError("restore_state: the checkpoint's boundary count differs from the scene's");
   }
-  if (share.order.size() != state.particles.size()) throw InputError("restore_state_share: an order per particle expected");
+  if (share.order.size() != state.particles.size() || m.total != scene_particles || share.total < scene_particles) {
+    throw std::logic_error("restore_shares: an order per particle, and the scene's particles first, expected");
+  }
+  const std::size_t total = share.total;
   const auto ranks = static_cast<std::size_t>(comm.size()), me = static_cast<std::size_t>(comm.rank());
-  const std::size_t first = even_part_first(m.total, ranks, me);
-  const std::size_t count = even_part_first(m.total, ranks, me + 1) - first;
+  const std::size_t first = even_part_first(total, ranks, me);
+  const std::size_t count = even_part_first(total, ranks, me + 1) - first;
 
   // 1. Each checkpoint particle, with its histories, to its block's rank; so do the scene's
   // particles (id, radius, material) that this rank owns now.
   std::optional<PlacedError> failure;  // the earliest, by the serial restore's order of checks
-  const std::uint64_t records_place = 3 * m.total;  // after the particles' (step 2)
+  const std::uint64_t records_place = 3 * total;  // after the particles' (step 2)
   auto fail = [&](std::uint64_t place, const std::string& why) {
     if (!failure || place < failure->place) failure = PlacedError{place, InputError(why)};
   };
@@ -77,7 +84,7 @@ void FastEngine::restore_state_share(const EngineStateShare& share) {
   }
   std::vector<Bytes> to(ranks);
   for (std::size_t i = 0; i < state.particles.size(); ++i) {
-    Packer p(to[even_part_of(m.total, ranks, share.order[i])]);
+    Packer p(to[even_part_of(total, ranks, share.order[i])]);
     p.put(std::uint8_t{1});  // a checkpoint particle
     p.put(share.order[i]);
     put_particle(p, state.particles[i]);
@@ -90,7 +97,7 @@ void FastEngine::restore_state_share(const EngineStateShare& share) {
     }
   }
   for (std::size_t k = 0; k < s.owned; ++k) {
-    Packer p(to[even_part_of(m.total, ranks, s.original[k])]);
+    Packer p(to[even_part_of(total, ranks, s.original[k])]);
     p.put(std::uint8_t{0});  // the scene's
     p.put(std::uint64_t{s.original[k]});
     p.put(s.id[k]);
@@ -144,13 +151,16 @@ void FastEngine::restore_state_share(const EngineStateShare& share) {
       break;
     }
   }
-  bool covered = arrived.size() == count && scene.size() == count;
+  // The scene's particles of this block: its indices below scene_particles (those above are
+  // being inserted).
+  const std::size_t in_scene = std::min(first + count, scene_particles) - std::min(first, scene_particles);
+  bool covered = arrived.size() == count && scene.size() == in_scene;
   for (std::size_t k = 0; k < count && covered; ++k) covered = arrived[k].original == first + k;
-  if (!covered) fail(m.total + first, "checkpoint part: the parts do not hold every construction index once");
-  for (std::size_t k = 0; k < count && covered; ++k) {
+  if (!covered) fail(total + first, "checkpoint part: the parts do not hold every construction index once");
+  for (std::size_t k = 0; k < in_scene && covered; ++k) {
     const Particle& p = arrived[k].particle;
     if (p.id != scene[k].id || p.radius != scene[k].radius || p.material != scene[k].material) {
-      fail(2 * m.total + first + k, "restore_state: particle " + std::to_string(first + k) + " (id " + std::to_string(p.id) +
+      fail(2 * total + first + k, "restore_state: particle " + std::to_string(first + k) + " (id " + std::to_string(p.id) +
                                         ") does not match the scene");
       break;
     }
@@ -199,7 +209,7 @@ void FastEngine::restore_state_share(const EngineStateShare& share) {
   arrived.clear();
   arrived.shrink_to_fit();
   if (m.distributed()) {
-    m.place_share(block, ParticleShare{&comm, first, m.total}, h, &block_escaped);
+    m.place_share(block, ParticleShare{&comm, first, total}, h, &block_escaped);
   } else {
     m.load_particles(block);  // one rank: the block is every particle, in this order
     s.escaped_via.assign(block_escaped.begin(), block_escaped.end());

@@ -179,8 +179,9 @@ class FastEngine final : public DemEngine {
   void restore_state(const EngineState& state) override;
   void restore_state_share(const EngineStateShare& share) override;
   std::size_t particle_count() const override;
-  /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): the whole state with
-  /// the new particles appended is restored (a list build; collective with several ranks).
+  /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): each rank's share of
+  /// the state, with the new particles appended, is restored (a list build; collective with
+  /// several ranks; no gather).
   void insert_particles(const Particles& added) override;
   /// Deepest contact of the last evaluation (ties: smaller (boundary, id_a, id_b)).
   std::optional<LargestOverlap> largest_overlap() const override;
