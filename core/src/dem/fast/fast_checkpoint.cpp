@@ -191,18 +191,13 @@ void FastEngine::restore_state(const EngineState& state) {
     auto install = [&](std::int64_t self_id, std::int64_t other_id, const TangentialSpring& spring) {
       const auto self = owned_index(self_id);
       if (!self) return;
-      const auto begin = s.partner.begin() + s.first[*self];
-      const auto end = s.partner.begin() + s.first[*self + 1];
-      const auto it = std::lower_bound(begin, end, other_id, [&](std::uint32_t j, std::int64_t id) { return s.id[j] < id; });
-      if (it == end || s.id[*it] != other_id) {
+      const std::optional<std::uint32_t> slot = s.slot_of_partner(*self, other_id);
+      if (!slot) {
         misplaced = true;
         return;
       }
-      if (*it < s.owned && other_id < self_id) return;  // kept by the owned lower-id side
-      std::uint32_t& code = s.spring_of[static_cast<std::size_t>(it - s.partner.begin())];
-      if (code == kNoSpring) code = s.new_spring(0);
-      s.spring_at(code) = spring;
-      s.lower_codes_valid = false;
+      if (s.partner[*slot] < s.owned && other_id < self_id) return;  // kept by the owned lower-id side
+      s.set_spring(*slot, spring);
     };
     install(c.id_a, c.id_b, c.spring);
     install(c.id_b, c.id_a, c.spring.mirrored());

@@ -145,6 +145,11 @@ struct WallData {
   Vec3 point = Vec3::Zero();     ///< point at the current evaluation time [m]
 };
 
+/// spring_of of a slot without history: the code of pool 0's first entry, a spring never used
+/// whose result stays zero, so the force kernel's sums read a zero result for a slot without
+/// contact without testing for one (force_kernel.cpp, "Each pair once").
+inline constexpr std::uint32_t kNoSpring = 0u;
+
 struct FastState {
   // --- per particle, storage order: [0, owned) this rank's particles in cell order (permuted
   // at every list build), then [owned, size()) the ghosts (copies of other ranks' particles
@@ -241,6 +246,21 @@ struct FastState {
     springs.emplace_back();
     return static_cast<std::uint32_t>((pool << pool_shift) | (springs.size() - 1));
   }
+  /// The slot of owned particle k's list whose partner has id `partner_id` (the list is in
+  /// partner id order), or none: a restore's lookup (fast_checkpoint.cpp, restore_from_shares.cpp).
+  std::optional<std::uint32_t> slot_of_partner(std::size_t k, std::int64_t partner_id) const {
+    const auto begin = partner.begin() + first[k], end = partner.begin() + first[k + 1];
+    const auto it = std::lower_bound(begin, end, partner_id, [&](std::uint32_t j, std::int64_t other) { return id[j] < other; });
+    if (it == end || id[*it] != partner_id) return std::nullopt;
+    return static_cast<std::uint32_t>(it - partner.begin());
+  }
+  /// Sets slot's spring to `spring`, giving the slot a new one if it has none.
+  void set_spring(std::uint32_t slot, const TangentialSpring& spring) {
+    std::uint32_t& code = spring_of[slot];
+    if (code == kNoSpring) code = new_spring(0);
+    spring_at(code) = spring;
+    lower_codes_valid = false;
+  }
   /// The last evaluation's result of the pair whose evaluating side holds spring `code`: laid
   /// out like spring_pools (result_pools[p][k] belongs to spring_pools[p][k]), kept as long
   /// as the pools by the kernel, valid only for the slots it evaluated in its last pass.
@@ -321,10 +341,6 @@ inline PairGeometry pair_geometry(const FastState& s, std::size_t i, std::size_t
 }
 
 inline constexpr std::uint32_t kNotHere = 0xffffffffu;  ///< `where` of a particle owned elsewhere
-/// spring_of of a slot without history: the code of pool 0's first entry, a spring never used
-/// whose result stays zero, so the force kernel's sums read a zero result for a slot without
-/// contact without testing for one (force_kernel.cpp, "Each pair once").
-inline constexpr std::uint32_t kNoSpring = 0u;
 inline constexpr std::uint32_t kNoMirror = 0xffffffffu;  ///< mirror of a slot whose partner is a ghost
 
 /// Threads of the force kernel for `owned` particles (one below kParallelMin).

@@ -253,17 +253,12 @@ void restore_shares(FastEngine::Impl& m, const EngineStateShare& share, std::siz
           misplaced = true;
           continue;
         }
-        const auto begin = s.partner.begin() + s.first[self->second];
-        const auto end = s.partner.begin() + s.first[self->second + 1];
-        const auto it = std::lower_bound(begin, end, other_id, [&](std::uint32_t j, std::int64_t id) { return s.id[j] < id; });
-        if (it == end || s.id[*it] != other_id) {
+        const std::optional<std::uint32_t> slot = s.slot_of_partner(self->second, other_id);
+        if (!slot) {
           misplaced = true;
           continue;
         }
-        std::uint32_t& code = s.spring_of[static_cast<std::size_t>(it - s.partner.begin())];
-        if (code == kNoSpring) code = s.new_spring(0);
-        s.spring_at(code) = spring;
-        s.lower_codes_valid = false;
+        s.set_spring(*slot, spring);
       }
     }
   }
