@@ -224,6 +224,77 @@ TEST(InsertEvent, CandidatesThatCannotFitFailAndAreCounted) {
   }
 }
 
+/// The particles of `all` whose centre lies in [lo, hi] (closed).
+Particles within(const Particles& all, const std::pair<Vec3, Vec3>& box) {
+  Particles in;
+  for (const Particle& p : all) {
+    if (((p.position.array() >= box.first.array()) && (p.position.array() <= box.second.array())).all()) in.push_back(p);
+  }
+  return in;
+}
+
+TEST(InsertEvent, FromTheParticlesWithinReachTheSameAsFromTheWholeSystem) {
+  // What each rank of a run passes (insertion_run.cpp): the particles within insert_reach of
+  // the region for a radius at least the system's largest, and that largest radius. Oracle:
+  // the event from the whole system. A bed of 1 mm spheres reaching into the box region, and
+  // three 6 mm spheres whose centres lie 4 mm outside its faces, so that they reach 2 mm into
+  // it: only the largest radius makes the reach hold them.
+  Particles all = lattice(Vec3(0.0, 0.0, 0.0), 16, 16, 10, 0.0026, 1e-3);
+  for (const Vec3& c : {Vec3(-0.004, 0.02, 0.035), Vec3(0.02, 0.044, 0.032), Vec3(0.03, 0.03, 0.054)}) {
+    Particle big;
+    big.id = static_cast<std::int64_t>(all.size()) + 1;
+    big.position = c;
+    big.radius = 6e-3;
+    all.push_back(big);
+  }
+  const double largest = 6e-3;
+  const BoundaryList walls = {std::make_shared<PlaneWall>(Vec3(0, 0, 0), Vec3(0, 0, 1))};
+  for (const InsertRegion& region : {box(Vec3(0.0, 0.0, 0.02), Vec3(0.04, 0.04, 0.05)),
+                                     cylinder(Vec3(0.02, 0.02, 0.02), Vec3(0.05, 0.1, 1.0), 0.02, 0.03)}) {
+    SCOPED_TRACE(region.kind == InsertRegion::Kind::kBox ? "box" : "cylinder");
+    const InsertSpec spec = spec_in(region, 0.8e-3, 1.4e-3);
+    InsertCounters whole_counters;
+    std::int64_t whole_id = 5000;
+    const Particles whole = insert_event(spec, 600, whole_counters, all, walls, 0.0, whole_id);
+    ASSERT_GT(whole.size(), 100u);
+    ASSERT_GT(whole_counters.draws, 4u * 600u) << "no candidate was refused: the particles near the region were never tested";
+    Particles together = all;  // the independent oracle: all pairs, no cells, no reach
+    together.insert(together.end(), whole.begin(), whole.end());
+    expect_no_overlap(together);
+    for (const double bound : {largest, 2.0 * largest}) {  // the run's bound is at least the largest
+      SCOPED_TRACE("reach for a radius of " + std::to_string(bound) + " m");
+      const Particles nearby = within(all, insert_reach(spec, bound));
+      EXPECT_LT(nearby.size(), all.size());
+      InsertCounters c;
+      std::int64_t next_id = 5000;
+      const Particles part = insert_event(spec, 600, c, nearby, largest, walls, 0.0, next_id);
+      ASSERT_EQ(part.size(), whole.size());
+      for (std::size_t k = 0; k < part.size(); ++k) {
+        EXPECT_EQ(part[k].id, whole[k].id);
+        EXPECT_EQ(part[k].radius, whole[k].radius);
+        EXPECT_TRUE(part[k].position == whole[k].position) << "particle " << k;
+      }
+      EXPECT_EQ(c.draws, whole_counters.draws);
+      EXPECT_EQ(c.inserted, whole_counters.inserted);
+      EXPECT_EQ(c.failed, whole_counters.failed);
+      EXPECT_EQ(next_id, whole_id);
+    }
+    if (region.kind != InsertRegion::Kind::kBox) continue;
+    // Control: a reach taken for the small spheres only leaves the large ones out, and the
+    // event then places spheres into them.
+    InsertCounters c;
+    std::int64_t next_id = 5000;
+    const Particles blind = insert_event(spec, 600, c, within(all, insert_reach(spec, 1e-3)), 1e-3, walls, 0.0, next_id);
+    std::size_t overlaps = 0;
+    for (const Particle& p : blind) {
+      for (std::size_t b = all.size() - 3; b < all.size(); ++b) {
+        if ((p.position - all[b].position).norm() < p.radius + all[b].radius) ++overlaps;
+      }
+    }
+    EXPECT_GT(overlaps, 0u) << "the control found no sphere in a large one: the test would not see a short reach";
+  }
+}
+
 // ---- size distributions ---------------------------------------------------------------------
 
 /// `n` particles in a cube of 1 m (volume fraction ~1e-7: rejections, which would favour small
@@ -578,6 +649,67 @@ TEST(InsertRun, TheInsertedEnergyIsInputNotAnEnergyError) {
   EXPECT_EQ(s.insert_failed, 0);
   EXPECT_LT(s.margins.energy_growth, 0.01);
   EXPECT_NE(log.str().find("inserted " + std::to_string(s.inserted) + " particles, 0 could not"), std::string::npos) << log.str();
+}
+
+TEST(InsertRun, AnEventSeesTheLargeParticlesOfEarlierEventsNearItsRegion) {
+  // A run gives an event only the particles within its reach (DemEngine::particles_in), the
+  // reach taken for the largest radius present. Step 0 inserts three 6 mm spheres whose
+  // centres lie 4.5 mm outside the region of step 1's 1 mm spheres and reach 1.5 mm into it: a
+  // reach taken for the small spheres alone (2.8 mm) would leave them out. Oracle: no overlap
+  // among all the particles afterwards (all pairs, no cells). Both engines (the reference
+  // through DemEngine's default particles_in, the fast one through its own).
+  const fs::path dir = ppohdem::test::scratch_dir();
+  const std::string text = R"([simulation]
+dt = 1.0e-6
+steps = 2
+gravity = [0.0, 0.0, 0.0]
+
+[material]
+density = 2500.0
+young = 5.0e7
+poisson = 0.3
+restitution = 0.5
+friction = 0.5
+
+[contact]
+model = "hertz-mindlin"
+
+[[insert]]
+name = "large"
+region = "box"
+lo = [-0.0105, 0.0, 0.0]
+hi = [0.00151, 0.04, 0.03]
+count = 3
+radius = 6.0e-3
+seed = 5
+
+[[insert]]
+name = "small"
+region = "box"
+lo = [0.0, 0.0, 0.0]
+hi = [0.02, 0.04, 0.03]
+count = 1500
+start = 1.0e-6
+radius = 1.0e-3
+seed = 6
+
+[output]
+dir = "out"
+progress = false
+)";
+  const Scene scene = fill_scene(dir, text);
+  for (const bool fast : {false, true}) {
+    SCOPED_TRACE(fast ? "fast" : "reference");
+    std::unique_ptr<DemEngine> engine;
+    if (fast) engine = std::make_unique<fast::FastEngine>(scene.setup);
+    else engine = std::make_unique<reference::ReferenceEngine>(scene.setup);
+    std::ostringstream log;
+    const RunSummary summary = run_scene(*engine, scene, "test", log);
+    const Particles& all = engine->particles();
+    ASSERT_EQ(std::count_if(all.begin(), all.end(), [](const Particle& p) { return p.radius == 6e-3; }), 3);
+    EXPECT_GT(summary.inserted, 1000);
+    expect_no_overlap(all);
+  }
 }
 
 // ---- errors ---------------------------------------------------------------------------------

@@ -191,22 +191,39 @@ double insert_uniform(std::uint64_t seed, std::uint64_t u) {
   return static_cast<double>(z >> 11) * 0x1.0p-53;  // the top 53 bits: exact, in [0, 1)
 }
 
+namespace {
+
+/// Particles farther than this from the region's box cannot touch a candidate [m]: the sum of
+/// the largest new and the largest existing radius, the gap kInsertGap included.
+double reach_of(const InsertSpec& spec, double largest_radius) {
+  const double r_new = spec.sizes.largest();
+  return (1.0 + 1e-6) * (r_new + std::max(r_new, largest_radius));
+}
+
+}  // namespace
+
+std::pair<Vec3, Vec3> insert_reach(const InsertSpec& spec, double largest_radius) {
+  const double reach = reach_of(spec, largest_radius);
+  const auto [lo, hi] = bounding_box(spec.region);
+  return {lo - Vec3::Constant(reach), hi + Vec3::Constant(reach)};
+}
+
 Particles insert_event(const InsertSpec& spec, long wanted, InsertCounters& counters, const Particles& existing,
                        const BoundaryList& boundaries, double time, std::int64_t& next_id) {
+  double largest = 0.0;
+  for (const Particle& p : existing) largest = std::max(largest, p.radius);
+  return insert_event(spec, wanted, counters, existing, largest, boundaries, time, next_id);
+}
+
+Particles insert_event(const InsertSpec& spec, long wanted, InsertCounters& counters, const Particles& nearby,
+                       double largest_radius, const BoundaryList& boundaries, double time, std::int64_t& next_id) {
   Particles added;
   if (wanted <= 0) return added;
-  const double r_new = spec.sizes.largest();
-  double r_old = r_new;
-  for (const Particle& p : existing) r_old = std::max(r_old, p.radius);
-  // Particles farther than r_new + r_old from the region's box cannot touch a candidate.
-  const double reach = (1.0 + 1e-6) * (r_new + r_old);  // the gap kInsertGap included
-  auto [lo, hi] = bounding_box(spec.region);
-  lo -= Vec3::Constant(reach);
-  hi += Vec3::Constant(reach);
-  // Cells of side >= reach, at most ~2^21 of them (a large region of small particles).
-  const double side = std::max(reach, std::cbrt((hi - lo).prod() / 2097152.0));
+  const auto [lo, hi] = insert_reach(spec, largest_radius);
+  // Cells of side >= the reach, at most ~2^21 of them (a large region of small particles).
+  const double side = std::max(reach_of(spec, largest_radius), std::cbrt((hi - lo).prod() / 2097152.0));
   NearParticles near(lo, hi, side);
-  for (const Particle& p : existing) {
+  for (const Particle& p : nearby) {
     if (((p.position.array() >= lo.array()) && (p.position.array() <= hi.array())).all()) near.add(p.position, p.radius);
   }
   for (long n = 0; n < wanted; ++n) {

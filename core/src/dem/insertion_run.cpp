@@ -17,17 +17,29 @@ InsertionRun::InsertionRun(const SimulationSetup& setup, const std::vector<Inser
 
 void InsertionRun::at_step(DemEngine& engine) {
   const long step = engine.step_count();
-  bool due = false;
+  std::vector<std::size_t> due;  // the tables with an event now
   for (std::size_t i = 0; i < specs_.size(); ++i) {
     const InsertSchedule& s = specs_[i].schedule;
     const InsertCounters& c = record_.counters[i];
-    due = due || ((s.total < 0 || c.requested < s.total) && s.has_event(c.events) && s.step_of(c.events) <= step);
+    if ((s.total < 0 || c.requested < s.total) && s.has_event(c.events) && s.step_of(c.events) <= step) due.push_back(i);
   }
-  if (!due) return;
-  Particles all = engine.particles();  // whole system, on every rank (collective)
+  if (due.empty()) return;
+  // What the events need of the system, on every rank (collective), without gathering it: the
+  // largest id and radius, and the particles within reach of the regions. The reach is taken
+  // for the largest radius this step's events can see (those present or any to be drawn),
+  // so it holds every particle each event's own, smaller reach can touch.
+  const DemEngine::Extent extent = engine.particle_extent();
+  double largest = extent.largest_radius;  // of the system, grown by each event's particles
+  double largest_bound = largest;
+  for (const std::size_t i : due) largest_bound = std::max(largest_bound, specs_[i].sizes.largest());
+  std::vector<DemEngine::CentreBox> reach;
+  for (const std::size_t i : due) {
+    const auto [lo, hi] = insert_reach(specs_[i], largest_bound);
+    reach.push_back({lo, hi});
+  }
+  Particles all = engine.particles_in(reach);  // then the new particles, appended
   const std::size_t before = all.size();
-  std::int64_t next_id = 1;
-  for (const Particle& p : all) next_id = std::max(next_id, p.id + 1);
+  std::int64_t next_id = extent.largest_id + 1;
   const double time = engine.time();
   for (std::size_t i = 0; i < specs_.size(); ++i) {
     const InsertSpec& spec = specs_[i];
@@ -39,7 +51,8 @@ void InsertionRun::at_step(DemEngine& engine) {
     while (open() && spec.schedule.has_event(c.events) && spec.schedule.step_of(c.events) <= step) {
       const long wanted = spec.schedule.wanted(c.events, c.requested, setup_.dt);
       const std::int64_t inserted0 = c.inserted, failed0 = c.failed;
-      Particles added = insert_event(spec, wanted, c, all, setup_.boundaries, time, next_id);
+      Particles added = insert_event(spec, wanted, c, all, largest, setup_.boundaries, time, next_id);
+      for (const Particle& p : added) largest = std::max(largest, p.radius);
       all.insert(all.end(), added.begin(), added.end());
       c.requested += wanted;
       ++c.events;

@@ -13,6 +13,7 @@
 ///   v(n+1)   = v(n+1/2) + a(n+1) dt/2,      w(n+1) = w(n+1/2) + alpha(n+1) dt/2
 /// with a = F/m + g, alpha = T/I. For constant acceleration this is exact (free fall).
 /// Contacts are evaluated in (id_i, id_j) order so results do not depend on storage order.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -208,6 +209,37 @@ class DemEngine {
   /// Engines without support throw InputError.
   virtual void insert_particles(const Particles& /*added*/) {
     throw InputError("engine '" + name() + "' does not support particle insertion ([[insert]])");
+  }
+  /// What a particle insertion event needs of the system (insertion.hpp), without gathering
+  /// it: the largest id and the largest radius over all the particles (0 and 0 m if there are
+  /// none). Collective. Default: from particles().
+  struct Extent {
+    std::int64_t largest_id = 0;
+    double largest_radius = 0.0;  ///< [m]
+  };
+  virtual Extent particle_extent() const {
+    Extent e;
+    for (const Particle& p : particles()) {
+      e.largest_id = std::max(e.largest_id, p.id);
+      e.largest_radius = std::max(e.largest_radius, p.radius);
+    }
+    return e;
+  }
+  /// An axis-aligned box [lo, hi] of centres [m] (closed: a centre on a face is in it).
+  struct CentreBox {
+    Vec3 lo = Vec3::Zero();
+    Vec3 hi = Vec3::Zero();
+    bool holds(const Vec3& x) const { return ((x.array() >= lo.array()) && (x.array() <= hi.array())).all(); }
+  };
+  /// The particles whose centre lies in at least one of `boxes`, in construction order, on
+  /// every rank (an insertion event's neighbourhood). Collective; with several ranks only
+  /// those particles travel. Default: filtered from particles().
+  virtual Particles particles_in(const std::vector<CentreBox>& boxes) const {
+    Particles in;
+    for (const Particle& p : particles()) {
+      if (std::any_of(boxes.begin(), boxes.end(), [&](const CentreBox& b) { return b.holds(p.position); })) in.push_back(p);
+    }
+    return in;
   }
   /// The deepest contact of the last force evaluation (ratio 0 if there is no contact), or
   /// nothing if the engine does not report it (the run diagnostics then check particle pairs

@@ -6,9 +6,10 @@
 /// object; LIGGGHTS' `fix insert/pack` and `insert/rate/region` are the models.
 ///
 /// Determinism: an insertion event is a pure function of the spec, its counters
-/// (InsertCounters) and the WHOLE system's particles (every rank has them: DemEngine::
-/// particles() is collective), so every rank draws and tests the same candidates in the same
-/// order and accepts the same ones; the engines append them in candidate order with new ids
+/// (InsertCounters) and the WHOLE system's particles, of which it needs the largest id and
+/// radius and the particles near its region (insert_reach); every rank gets those
+/// (DemEngine::particle_extent and particles_in are collective), so every rank draws and tests
+/// the same candidates in the same order and accepts the same ones; the engines append them in candidate order with new ids
 /// after the largest id so far. Random numbers: SplitMix64 (Steele, Lea & Flood 2014) of
 /// (seed, counter), mapped to doubles by their top 53 bits (no library distribution, whose
 /// algorithm is implementation-defined); the counter is the whole generator state.
@@ -23,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ppohdem/dem/boundary.hpp"
@@ -132,11 +134,23 @@ struct InsertionRecord {
 /// top 53 bits.
 double insert_uniform(std::uint64_t seed, std::uint64_t u);
 
+/// The box of centres [lo, hi] an event of `spec` can touch, `largest_radius` [m] being the
+/// largest radius of the particles present: the region's bounding box grown by the largest new
+/// plus the largest present radius (and the gap). Larger for a larger `largest_radius`.
+std::pair<Vec3, Vec3> insert_reach(const InsertSpec& spec, double largest_radius);
+
 /// One event: `wanted` candidates against `existing` (the whole system) and `boundaries` at
 /// `time`; accepted particles get ids next_id, next_id + 1, ... (next_id is advanced), zero
 /// force. Counters advance (draws, inserted, failed; not events or requested).
 Particles insert_event(const InsertSpec& spec, long wanted, InsertCounters& counters, const Particles& existing,
                        const BoundaryList& boundaries, double time, std::int64_t& next_id);
+/// The same event from a part of the system: `nearby` holds at least every particle whose
+/// centre lies in insert_reach(spec, largest_radius) (others are ignored), and
+/// `largest_radius` is the largest radius of the whole system [m]. The same particles and
+/// counters as from the whole system, which is what the run's ranks use instead of gathering
+/// it (insertion_run.cpp).
+Particles insert_event(const InsertSpec& spec, long wanted, InsertCounters& counters, const Particles& nearby,
+                       double largest_radius, const BoundaryList& boundaries, double time, std::int64_t& next_id);
 
 /// One particle per size extreme and material of the specs (positions far apart), for the
 /// time-step limit of a scene whose particles are still to come.

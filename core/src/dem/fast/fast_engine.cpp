@@ -1,5 +1,8 @@
 // The fast engine behind the DemEngine interface (fast_engine.hpp); its concepts live in the
 // files listed in engine_impl.hpp.
+#include <algorithm>
+#include <bit>
+
 #include "engine_impl.hpp"
 #include "ppohdem/simd_level.hpp"
 
@@ -183,6 +186,51 @@ DemEngine::OrderedPart FastEngine::ordered_part() const {
 }
 
 std::size_t FastEngine::particle_count() const { return impl_->total; }
+
+DemEngine::Extent FastEngine::particle_extent() const {
+  const Impl& m = *impl_;
+  const FastState& s = m.s;
+  // Radii are > 0, so their bit patterns order as the values do: both maxima in one reduction.
+  std::int64_t words[2] = {0, 0};
+  for (std::size_t k = 0; k < s.owned; ++k) {
+    words[0] = std::max(words[0], s.id[k]);
+    words[1] = std::max(words[1], std::bit_cast<std::int64_t>(s.radius[k]));
+  }
+  if (m.distributed()) {
+    m.comm->combine_over_ranks(words, [](const std::int64_t* in, std::int64_t* inout, std::size_t count) {
+      for (std::size_t w = 0; w < count; ++w) inout[w] = std::max(inout[w], in[w]);
+    });
+  }
+  return {words[0], std::bit_cast<double>(words[1])};
+}
+
+Particles FastEngine::particles_in(const std::vector<CentreBox>& boxes) const {
+  const Impl& m = *impl_;
+  const FastState& s = m.s;
+  auto in_a_box = [&](std::size_t k) {
+    return std::any_of(boxes.begin(), boxes.end(), [&](const CentreBox& b) { return b.holds(s.x[k]); });
+  };
+  std::vector<std::pair<std::uint32_t, Particle>> found;  // (construction index, particle)
+  if (!m.distributed()) {
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      if (in_a_box(k)) found.emplace_back(s.original[k], particle_at(s, k));
+    }
+  } else {
+    Bytes mine;
+    Packer pk(mine);
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      if (in_a_box(k)) pack_output(pk, s, k);
+    }
+    for (const Bytes& block : m.comm->allgather(mine)) {
+      unpack_outputs(block, [&](std::uint32_t o, const Particle& p) { found.emplace_back(o, p); });
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  Particles in;
+  in.reserve(found.size());
+  for (auto& [o, p] : found) in.push_back(std::move(p));
+  return in;
+}
 
 Energies FastEngine::energies() const {
   // The reference's terms, summed exactly and rounded once (exact_sum.hpp): the same bits

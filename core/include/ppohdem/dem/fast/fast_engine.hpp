@@ -179,6 +179,10 @@ class FastEngine final : public DemEngine {
   void restore_state(const EngineState& state) override;
   void restore_state_share(const EngineStateShare& share) override;
   std::size_t particle_count() const override;
+  /// Each rank's owned particles, then one reduction of the two maxima.
+  Extent particle_extent() const override;
+  /// Each rank's owned particles in the boxes, then one allgather of those only.
+  Particles particles_in(const std::vector<CentreBox>& boxes) const override;
   /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): each rank's share of
   /// the state, with the new particles appended, is restored (a list build; collective with
   /// several ranks; no gather).
