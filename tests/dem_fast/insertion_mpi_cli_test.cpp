@@ -52,8 +52,8 @@ TEST(InsertionMpi, FillIsTheReferencesAtTwoRanksAndRestartsAtOneAndThree) {
   const CommandResult first = run_mpi(2, "--engine fast --output-dir '" + parts.string() +
                                              "' --steps 4000 --checkpoint-every 4000 --quiet");
   ASSERT_EQ(first.exit_code, 0) << first.output;
-  // Continued at 1 rank (the parts merged) and at 3 (each rank reads its parts; the inserted
-  // particles are shared out to every rank, as the insertion does), each from a copy.
+  // Continued at 1 rank (the parts merged) and at 3 (each rank reads its parts and restores
+  // the inserted particles among them: the fill starts empty, so all of them), each from a copy.
   for (const int ranks : {1, 3}) {
     SCOPED_TRACE("restarted at " + std::to_string(ranks) + " ranks");
     const fs::path again = root / ("parts_np" + std::to_string(ranks));

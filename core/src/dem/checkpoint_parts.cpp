@@ -344,24 +344,4 @@ CheckpointShareRead read_checkpoint_share(const fs::path& file, const Comm& comm
   return out;
 }
 
-Particles share_particles_from(const EngineStateShare& share, std::uint64_t first, const Comm& comm) {
-  Writer mine;
-  for (std::size_t i = 0; i < share.state.particles.size(); ++i) {
-    if (share.order[i] < first) continue;
-    mine.u64(share.order[i]);
-    checkpoint_codec::put_particle(mine, share.state.particles[i]);
-  }
-  Particles out(share.total > first ? static_cast<std::size_t>(share.total - first) : 0);
-  for (const Bytes& block : comm.allgather(Bytes(mine.bytes.begin(), mine.bytes.end()))) {
-    const std::vector<std::uint8_t> bytes(block.begin(), block.end());
-    Reader r(bytes.data(), bytes.size(), "checkpoint share", 0);
-    while (!r.done()) {
-      const std::uint64_t o = r.u64("construction index");
-      if (o < first || o >= share.total) r.fail("construction index out of range");
-      checkpoint_codec::get_particle(r, out[static_cast<std::size_t>(o - first)]);
-    }
-  }
-  return out;
-}
-
 }  // namespace ppohdem::dem

@@ -272,8 +272,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
     // Particles inserted before the checkpoint: appended first (restore_state sets their state).
     const std::size_t now = engine.particle_count();
     if (const auto* share = options.restart_share.get()) {  // several ranks, each with its parts
-      if (insertion.active() && share->total > now) engine.insert_particles(share_particles_from(*share, now, *options.comm));
-      engine.restore_state_share(*share);
+      engine.restore_state_share(*share, insertion.active() && share->total > now ? share->total - now : 0);
     } else {
       if (insertion.active() && c.engine.particles.size() > now) {
         const auto first_new = c.engine.particles.begin() + static_cast<std::ptrdiff_t>(now);

@@ -143,10 +143,6 @@ struct CheckpointShareRead {
 /// error, every rank throws the error of the lowest part. No rank holds the whole state:
 /// DemEngine::restore_state_share places the shares (docs/formats.md "Checkpoints").
 CheckpointShareRead read_checkpoint_share(const std::filesystem::path& file, const Comm& comm);
-/// Collective: the particles of construction index >= `first` in all the ranks' shares, in
-/// construction order, on every rank (a restart's particles inserted after step 0: the insertion
-/// appends them on every rank).
-Particles share_particles_from(const EngineStateShare& share, std::uint64_t first, const Comm& comm);
 
 /// The bytes of a part file; decoding throws InputError(source, 0, "checkpoint part: ...")
 /// like decode_checkpoint, and for a rank >= ranks or a construction index >= total.

@@ -198,8 +198,11 @@ class DemEngine {
   /// Continue from a state spread over the ranks: `share` is this rank's (a checkpoint's parts
   /// it read, read_checkpoint_share), the shares of all ranks together the whole state, in any
   /// split. Collective; the same result and checks as restore_state of the merged state, with
-  /// no rank holding it. Default: engines that run on one rank restore from checkpoint files.
-  virtual void restore_state_share(const EngineStateShare& /*share*/) {
+  /// no rank holding it. `inserted`: the state's last particles (construction order) that
+  /// [[insert]] events added after the engine's own, which are appended first, as
+  /// insert_particles would (the same on every rank). Default: engines that run on one rank
+  /// restore from checkpoint files.
+  virtual void restore_state_share(const EngineStateShare& /*share*/, std::size_t /*inserted*/ = 0) {
     throw InputError("engine '" + name() + "' restores a checkpoint's parts only through restore_state");
   }
   /// Particle insertion (insertion.hpp): appends `added` after the existing particles (so

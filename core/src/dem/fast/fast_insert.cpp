@@ -27,12 +27,16 @@ void FastEngine::insert_particles(const Particles& added) {
     share.order.push_back(before + i);
   }
   share.total = before + added.size();
+  prepare_for_inserted(m, m.comm->max_over_ranks(r_max));
+  restore_shares(m, share, before);
+}
+
+void prepare_for_inserted(FastEngine::Impl& m, double largest_radius) {
   // The bricks over all centres now (a fill starts from few or no particles): the reload
   // re-cuts them, and makes the equal bricks (balance off) over the new box too; no result
   // depends on them.
   m.equal_bricks_made = false;
-  m.skin = std::max(m.skin, m.skin_fraction * m.comm->max_over_ranks(r_max));  // the list's skin for the largest radius
-  restore_shares(m, share, before);
+  m.skin = std::max(m.skin, m.skin_fraction * largest_radius);  // the list's skin for the largest radius
 }
 
 }  // namespace ppohdem::dem::fast

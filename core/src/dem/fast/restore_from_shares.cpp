@@ -21,10 +21,24 @@ struct Arrival {
 
 }  // namespace
 
-void FastEngine::restore_state_share(const EngineStateShare& share) {
+void FastEngine::restore_state_share(const EngineStateShare& share, std::size_t inserted) {
   Impl& m = *impl_;
-  if (share.total != m.total) {
-    throw InputError("checkpoint: " + std::to_string(share.total) + " particles, the scene has " + std::to_string(m.total));
+  if (share.total != m.total + inserted) {
+    throw InputError("checkpoint: " + std::to_string(share.total) + " particles, the scene has " + std::to_string(m.total) +
+                     (inserted > 0 ? " and " + std::to_string(inserted) + " inserted" : std::string()));
+  }
+  if (inserted > 0) {  // what insert_particles prepares, over the same particles
+    double r_max = 0.0;
+    bool unknown_material = false;
+    for (std::size_t i = 0; i < share.state.particles.size(); ++i) {
+      const Particle& p = share.state.particles[i];
+      unknown_material = unknown_material || (share.order[i] >= m.total && p.material >= m.materials.size());
+      r_max = std::max(r_max, p.radius);
+    }
+    if (m.comm->max_over_ranks(unknown_material ? 1.0 : 0.0) > 0.0) {  // every rank throws alike
+      throw InputError("checkpoint: an inserted particle's material index is out of range");
+    }
+    prepare_for_inserted(m, m.comm->max_over_ranks(r_max));
   }
   restore_shares(m, share, m.total);
 }

@@ -177,7 +177,7 @@ class FastEngine final : public DemEngine {
   EngineState save_state() const override;
   EngineStateShare save_state_share() const override;
   void restore_state(const EngineState& state) override;
-  void restore_state_share(const EngineStateShare& share) override;
+  void restore_state_share(const EngineStateShare& share, std::size_t inserted = 0) override;
   std::size_t particle_count() const override;
   /// Each rank's owned particles, then one reduction of the two maxima.
   Extent particle_extent() const override;
