@@ -16,11 +16,14 @@
 
 #include "../apps/cli_runner.hpp"
 #include "bed_scene.hpp"
+#include "forged_part.hpp"
 #include "mpi_runner.hpp"
 #include "ppohdem/dem/checkpoint.hpp"
 
 namespace fs = std::filesystem;
 using ppohdem::test::body;
+using ppohdem::test::bytes_of;
+using ppohdem::test::forge_part;
 using ppohdem::test::CommandResult;
 using ppohdem::test::run_mpi;
 using ppohdem::test::write_bed;
@@ -28,11 +31,6 @@ using ppohdem::test::write_bed;
 namespace {
 
 fs::path scratch(const std::string& name) { return ppohdem::test::scratch("checkpoint_parts_mpi", name); }
-
-std::vector<std::uint8_t> bytes_of(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // The bed of fast_mpi_cli_test.cpp: 4275 frictional spheres (each of 4 ranks owns about
 // kParallelMin particles or more, so 2 threads really run), colliding with each other and the
@@ -156,31 +154,6 @@ TEST(CheckpointPartsMpi, MissingOrForeignPartsAreRefused) {
     }
   }
 }
-
-namespace {
-
-// Rewrites part k of `manifest` through `edit` (a forged but well-framed part) and the
-// manifest's entry for it, so that only the restore's own checks can find what is wrong.
-template <class Edit>
-void forge_part(const fs::path& manifest, std::size_t k, Edit&& edit) {
-  namespace dem = ppohdem::dem;
-  dem::Checkpoint m = dem::decode_checkpoint(bytes_of(manifest), manifest.string());
-  const fs::path file = manifest.parent_path() / m.parts.at(k).file;
-  dem::CheckpointPart part = dem::decode_checkpoint_part(bytes_of(file), file.string());
-  edit(part);
-  const std::vector<std::uint8_t> bytes = dem::encode_checkpoint_part(part);
-  std::ofstream(file, std::ios::binary | std::ios::trunc)
-      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  dem::CheckpointPartEntry& entry = m.parts[k];
-  entry.particles = part.particles.size();
-  entry.contacts = part.contacts.size();
-  entry.escaped = part.escaped_ids.size();
-  entry.payload_crc = static_cast<std::uint32_t>(bytes[bytes.size() - 4]) | static_cast<std::uint32_t>(bytes[bytes.size() - 3]) << 8 |
-                      static_cast<std::uint32_t>(bytes[bytes.size() - 2]) << 16 | static_cast<std::uint32_t>(bytes[bytes.size() - 1]) << 24;
-  dem::write_checkpoint(manifest, m);
-}
-
-}  // namespace
 
 // Parts that frame and checksum well but whose contents do not fit the scene: the restore's
 // checks refuse them with the same words whether one rank merges the parts or 2 and 3 ranks

@@ -3,7 +3,8 @@
 // 2,000 steps around a mesh object) run by `mpirun -n 2 ppohdem simulate --engine fast` writes
 // the same final.csv, energy.csv and insertions.csv, byte for byte (header lines aside), as the
 // REFERENCE engine on one rank; a checkpoint written at 2 ranks after some insertions restarts
-// at 1 and 3 ranks and ends with the same files. Label mpi; built only with PPOHDEM_ENABLE_MPI.
+// at 1 and 3 ranks and ends with the same files, and a forged part is refused at 1, 2 and 3.
+// Label mpi; built only with PPOHDEM_ENABLE_MPI.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "../apps/cli_runner.hpp"
 #include "../reliability/reliability_scenes.hpp"
 #include "bed_scene.hpp"
+#include "forged_part.hpp"
 
 namespace fs = std::filesystem;
 using ppohdem::test::body;
@@ -65,5 +67,18 @@ TEST(InsertionMpi, FillIsTheReferencesAtTwoRanksAndRestartsAtOneAndThree) {
     for (const char* file : {"final.csv", "insertions.csv"}) {
       EXPECT_EQ(body(again / file), body(root / "reference" / file)) << file;
     }
+  }
+  // A forged part (well framed, its CRC fixed) giving an inserted particle a material the scene
+  // does not have: refused with the same words at every rank count, and no rank waits for the
+  // others (the rank that holds it is one of several at 2 and 3 ranks).
+  const fs::path forged = root / "forged";
+  fs::remove_all(forged);
+  fs::copy(parts, forged, fs::copy_options::recursive);
+  ppohdem::test::forge_part(forged / "checkpoint.bin", 1, [](ppohdem::dem::CheckpointPart& p) { p.particles.at(0).material = 7; });
+  for (const int ranks : {1, 2, 3}) {
+    const CommandResult r = run_mpi(ranks, "--engine fast --output-dir '" + forged.string() + "' --restart '" +
+                                               (forged / "checkpoint.bin").string() + "'" + steps);
+    EXPECT_NE(r.exit_code, 0) << ranks << " ranks";
+    EXPECT_NE(r.output.find("insert_particles: material index out of range"), std::string::npos) << ranks << " ranks: " << r.output;
   }
 }

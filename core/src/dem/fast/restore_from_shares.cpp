@@ -36,7 +36,7 @@ void FastEngine::restore_state_share(const EngineStateShare& share, std::size_t 
       r_max = std::max(r_max, p.radius);
     }
     if (m.comm->max_over_ranks(unknown_material ? 1.0 : 0.0) > 0.0) {  // every rank throws alike
-      throw InputError("checkpoint: an inserted particle's material index is out of range");
+      throw InputError("insert_particles: material index out of range");  // one rank's words
     }
     prepare_for_inserted(m, m.comm->max_over_ranks(r_max));
   }
