@@ -462,13 +462,4 @@ struct FastEngine::Impl {
   void step();
 };
 
-/// Continues `m` from the ranks' shares of a state whose first `scene_particles` particles (in
-/// construction order) are m's, checked against them, and any after them new
-/// (restore_from_shares.cpp: FastEngine::restore_state_share, insert_particles). Collective.
-void restore_shares(FastEngine::Impl& m, const EngineStateShare& share, std::size_t scene_particles);
-/// Before restore_shares appends inserted particles (fast_insert.cpp: insert_particles, and a
-/// restart's restore_state_share): bricks to be cut afresh, the skin for `largest_radius` [m],
-/// the largest radius over all the ranks' particles.
-void prepare_for_inserted(FastEngine::Impl& m, double largest_radius);
-
 }  // namespace ppohdem::dem::fast

@@ -19,6 +19,10 @@ struct Arrival {
   std::vector<std::pair<std::int64_t, TangentialSpring>> walls;   ///< (boundary_history_key, spring)
 };
 
+/// Continues `m` from the ranks' shares of a state whose first `scene_particles` particles (in
+/// construction order) are m's, checked against them, and any after them new. Collective.
+void restore_shares(FastEngine::Impl& m, const EngineStateShare& share, std::size_t scene_particles);
+
 }  // namespace
 
 void FastEngine::restore_state_share(const EngineStateShare& share, std::size_t inserted) {
@@ -27,7 +31,7 @@ void FastEngine::restore_state_share(const EngineStateShare& share, std::size_t 
     throw InputError("checkpoint: " + std::to_string(share.total) + " particles, the scene has " + std::to_string(m.total) +
                      (inserted > 0 ? " and " + std::to_string(inserted) + " inserted" : std::string()));
   }
-  if (inserted > 0) {  // what insert_particles prepares, over the same particles
+  if (inserted > 0) {  // particles appended after the engine's (insert_particles, or a restart's)
     double r_max = 0.0;
     bool unknown_material = false;
     for (std::size_t i = 0; i < share.state.particles.size(); ++i) {
@@ -38,10 +42,16 @@ void FastEngine::restore_state_share(const EngineStateShare& share, std::size_t 
     if (m.comm->max_over_ranks(unknown_material ? 1.0 : 0.0) > 0.0) {  // every rank throws alike
       throw InputError("insert_particles: material index out of range");  // one rank's words
     }
-    prepare_for_inserted(m, m.comm->max_over_ranks(r_max));
+    // The bricks over all centres now (a fill starts from few or no particles): the reload
+    // re-cuts them, and makes the equal bricks (balance off) over the new box too; no result
+    // depends on them. The list's skin for the largest radius.
+    m.equal_bricks_made = false;
+    m.skin = std::max(m.skin, m.skin_fraction * m.comm->max_over_ranks(r_max));
   }
   restore_shares(m, share, m.total);
 }
+
+namespace {
 
 void restore_shares(FastEngine::Impl& m, const EngineStateShare& share, std::size_t scene_particles) {
   FastState& s = m.s;
@@ -280,5 +290,7 @@ void restore_shares(FastEngine::Impl& m, const EngineStateShare& share, std::siz
   if (misplaced) throw InputError("restore_state: a contact history joins particles that are not neighbours");
   m.finish_restore(state);
 }
+
+}  // namespace
 
 }  // namespace ppohdem::dem::fast
