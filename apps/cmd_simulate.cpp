@@ -346,6 +346,10 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
               read.seconds, setup_seconds, s.wall_seconds, s.gather_seconds, s.write_seconds,
               static_cast<double>(s.write_bytes) / 1e6,
               s.write_seconds > 0.0 ? static_cast<double>(s.write_bytes) / 1e6 / s.write_seconds : 0.0);
+  if (s.inserted + s.insert_failed > 0) {
+    std::printf("timing: insertions %.3f s (step 0's before the steps, later ones part of the steps' time)\n",
+                s.insert_seconds);
+  }
   if (s.checkpoints > 0) {
     std::printf("timing: %zu checkpoints in %.3f s (part of the steps' time)\n", s.checkpoints, s.checkpoint_seconds);
   }

@@ -299,6 +299,43 @@ TEST(InsertEvent, FromTheParticlesWithinReachTheSameAsFromTheWholeSystem) {
 
 /// `n` particles in a cube of 1 m (volume fraction ~1e-7: rejections, which would favour small
 /// sizes, are negligible).
+TEST(InsertCells, AtLeastTheReachAndAtMostFourMillionCellsForAnyBox) {
+  // The cells of an event's overlap test: two particles that can touch must lie in adjacent
+  // cells (side >= reach), and the table of list heads must stay small (<= 2^22 cells) for
+  // any box, the thin ones whose thin axis counts one cell however small the side.
+  const auto cells = [](const Vec3& lo, const Vec3& hi, double side) {
+    double n = 1.0;
+    for (int i = 0; i < 3; ++i) n *= std::max(1.0, std::ceil((hi[i] - lo[i]) / side));
+    return n;
+  };
+  struct Case {
+    const char* what;
+    Vec3 lo, hi;
+    double reach;
+  };
+  const Case cases[] = {
+      {"a 10 cm cube, 1 mm reach", Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1), 1e-3},
+      {"a 10 x 10 x 30 cm box of 0.5 mm spheres", Vec3(0, 0, 0), Vec3(0.105, 0.105, 0.3), 1e-3},
+      {"a 4 x 4 m plate 0.64 mm thick", Vec3(-2, -2, 0), Vec3(2, 2, 6.4e-4), 2e-4},
+      {"a 100 x 100 m plate 1 um thick", Vec3(0, 0, 0), Vec3(100, 100, 1e-6), 4e-7},
+      {"a 1 km needle", Vec3(0, 0, 0), Vec3(1000, 1e-3, 1e-3), 2e-4},
+      {"a box smaller than its reach", Vec3(0, 0, 0), Vec3(1e-4, 1e-4, 1e-4), 1e-3},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const double side = insert_cell_side(c.lo, c.hi, c.reach);
+    EXPECT_GE(side, c.reach);
+    EXPECT_LE(cells(c.lo, c.hi, side), 4194304.0);
+  }
+  // Not coarser than needed: a cube's cells are the reach while it leaves fewer than 2^21, and
+  // its side is the cube root of the volume over 2^21 when the reach would leave more.
+  EXPECT_EQ(insert_cell_side(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1), 1e-3), 1e-3);
+  EXPECT_NEAR(insert_cell_side(Vec3(0, 0, 0), Vec3(1, 1, 1), 1e-4), std::cbrt(1.0 / 2097152.0), 1e-15);
+  // A thin plate that needs it gets a side grown by less than the last factor of 1.25.
+  const double plate = insert_cell_side(Vec3(0, 0, 0), Vec3(100, 100, 1e-6), 4e-7);
+  EXPECT_GT(cells(Vec3(0, 0, 0), Vec3(100, 100, 1e-6), plate / 1.25), 4194304.0);
+}
+
 Particles sparse_sample(const InsertSizes& sizes, long n) {
   InsertSpec spec = spec_in(box(Vec3::Zero(), Vec3::Ones()), 1e-4, 1e-4);
   spec.sizes = sizes;

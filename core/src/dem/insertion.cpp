@@ -6,7 +6,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
-#include <unordered_map>
+#include <cstdint>
+#include <vector>
 
 #include "ppohdem/dem/distance_field_object.hpp"
 #include "ppohdem/grid/trilinear.hpp"
@@ -57,30 +58,33 @@ bool touches_boundary(const Boundary& boundary, const Vec3& centre, double r, do
 }
 
 /// The particles near the region in cells of side >= the largest sum of two radii, so that
-/// a candidate's possible partners lie in the 27 cells around its own.
+/// a candidate's possible partners lie in the 27 cells around its own. The cells are a dense
+/// table of list heads and each particle links to the next of its cell (Hockney & Eastwood,
+/// "Computer Simulation Using Particles", 1988, 8-4): a candidate reads nine runs of three
+/// adjacent heads, where a hash of cells cost a cache miss per cell (docs/objects.md
+/// "Particle insertion").
 class NearParticles {
  public:
+  /// `side` from insert_cell_side.
   NearParticles(const Vec3& lo, const Vec3& hi, double side) : lo_(lo), side_(side) {
-    for (int i = 0; i < 3; ++i) dims_[i] = std::max<long>(1, static_cast<long>(std::ceil((hi[i] - lo[i]) / side)));
+    for (int i = 0; i < 3; ++i) dims_[i] = std::max<long>(1, static_cast<long>(std::ceil((hi[i] - lo[i]) / side_)));
+    head_.assign(static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]), kNone);
   }
   void add(const Vec3& x, double r) {
-    centres_.push_back(x);
-    radii_.push_back(r);
-    cells_[key(cell(x))].push_back(static_cast<std::uint32_t>(centres_.size() - 1));
+    const std::size_t k = key(cell(x));
+    near_.push_back({x, r, head_[k]});
+    head_[k] = static_cast<std::uint32_t>(near_.size() - 1);
   }
   /// True if a sphere (x, r) comes closer than (1 + kInsertGap)(r + R_j) to a particle j.
   bool overlaps(const Vec3& x, double r) const {
     const std::array<long, 3> c = cell(x);
-    for (long dz = -1; dz <= 1; ++dz) {
-      for (long dy = -1; dy <= 1; ++dy) {
-        for (long dx = -1; dx <= 1; ++dx) {
-          const std::array<long, 3> n = {c[0] + dx, c[1] + dy, c[2] + dz};
-          if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= dims_[0] || n[1] >= dims_[1] || n[2] >= dims_[2]) continue;
-          const auto it = cells_.find(key(n));
-          if (it == cells_.end()) continue;
-          for (const std::uint32_t j : it->second) {
-            const double reach = (1.0 + kInsertGap) * (r + radii_[j]);
-            if ((x - centres_[j]).squaredNorm() < reach * reach) return true;
+    const long x0 = std::max(c[0] - 1, 0L), x1 = std::min(c[0] + 1, dims_[0] - 1);
+    for (long z = std::max(c[2] - 1, 0L); z <= std::min(c[2] + 1, dims_[2] - 1); ++z) {
+      for (long y = std::max(c[1] - 1, 0L); y <= std::min(c[1] + 1, dims_[1] - 1); ++y) {
+        for (long cx = x0; cx <= x1; ++cx) {
+          for (std::uint32_t j = head_[key({cx, y, z})]; j != kNone; j = near_[j].next) {
+            const double reach = (1.0 + kInsertGap) * (r + near_[j].radius);
+            if ((x - near_[j].centre).squaredNorm() < reach * reach) return true;
           }
         }
       }
@@ -89,6 +93,7 @@ class NearParticles {
   }
 
  private:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
   std::array<long, 3> cell(const Vec3& x) const {
     std::array<long, 3> c{};
     for (int i = 0; i < 3; ++i) {
@@ -97,14 +102,22 @@ class NearParticles {
     }
     return c;
   }
-  long key(const std::array<long, 3>& c) const { return c[0] + dims_[0] * (c[1] + dims_[1] * c[2]); }
+  std::size_t key(const std::array<long, 3>& c) const {
+    return static_cast<std::size_t>(c[0] + dims_[0] * (c[1] + dims_[1] * c[2]));
+  }
 
   Vec3 lo_;
   double side_;
   std::array<long, 3> dims_{};
-  std::vector<Vec3> centres_;
-  std::vector<double> radii_;
-  std::unordered_map<long, std::vector<std::uint32_t>> cells_;
+  /// A particle and the one added before it to its cell (or kNone): one record, so that a
+  /// test of it reads one cache line rather than one per array.
+  struct Near {
+    Vec3 centre;
+    double radius;
+    std::uint32_t next;
+  };
+  std::vector<Near> near_;
+  std::vector<std::uint32_t> head_;  ///< per cell: its last added particle, or kNone
 };
 
 }  // namespace
@@ -200,7 +213,24 @@ double reach_of(const InsertSpec& spec, double largest_radius) {
   return (1.0 + 1e-6) * (r_new + std::max(r_new, largest_radius));
 }
 
+constexpr double kCellsWanted = 2097152.0;  ///< 2^21: the cube-root side's count
+
+/// The number of cells of side `side` over [lo, hi] (at least one along each axis).
+double cells_over(const Vec3& lo, const Vec3& hi, double side) {
+  double count = 1.0;
+  for (int i = 0; i < 3; ++i) count *= std::max(1.0, std::ceil((hi[i] - lo[i]) / side));
+  return count;
+}
+
 }  // namespace
+
+double insert_cell_side(const Vec3& lo, const Vec3& hi, double reach) {
+  double side = std::max(reach, std::cbrt((hi - lo).prod() / kCellsWanted));
+  // A thin box's thin axis counts one cell however small the side, so the cube root of its
+  // volume can leave many more cells than wanted: grow the side until it does not.
+  while (cells_over(lo, hi, side) > 2.0 * kCellsWanted) side *= 1.25;
+  return side;
+}
 
 std::pair<Vec3, Vec3> insert_reach(const InsertSpec& spec, double largest_radius) {
   const double reach = reach_of(spec, largest_radius);
@@ -220,9 +250,7 @@ Particles insert_event(const InsertSpec& spec, long wanted, InsertCounters& coun
   Particles added;
   if (wanted <= 0) return added;
   const auto [lo, hi] = insert_reach(spec, largest_radius);
-  // Cells of side >= the reach, at most ~2^21 of them (a large region of small particles).
-  const double side = std::max(reach_of(spec, largest_radius), std::cbrt((hi - lo).prod() / 2097152.0));
-  NearParticles near(lo, hi, side);
+  NearParticles near(lo, hi, insert_cell_side(lo, hi, reach_of(spec, largest_radius)));
   for (const Particle& p : nearby) {
     if (((p.position.array() >= lo.array()) && (p.position.array() <= hi.array())).all()) near.add(p.position, p.radius);
   }

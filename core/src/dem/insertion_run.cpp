@@ -2,6 +2,7 @@
 #include "ppohdem/dem/insertion_run.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 
 #include "ppohdem/error.hpp"
@@ -16,6 +17,12 @@ InsertionRun::InsertionRun(const SimulationSetup& setup, const std::vector<Inser
 }
 
 void InsertionRun::at_step(DemEngine& engine) {
+  const auto started = std::chrono::steady_clock::now();
+  insert_due(engine);
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+}
+
+void InsertionRun::insert_due(DemEngine& engine) {
   const long step = engine.step_count();
   std::vector<std::size_t> due;  // the tables with an event now
   for (std::size_t i = 0; i < specs_.size(); ++i) {

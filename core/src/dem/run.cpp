@@ -394,6 +394,7 @@ RunSummary run_scene(DemEngine& engine, const Scene& scene, const std::string& h
   summary.margins = diagnostics.margins();
   summary.inserted = insertion.inserted();
   summary.insert_failed = insertion.failed();
+  summary.insert_seconds = insertion.seconds();
   summary.inserted_energy = insertion.input();
   const auto gather_start = clock::now();  // the end's gather (or its parts' exchange)
   // Collective: every rank its part of final.csv (several ranks), or all of them.

@@ -139,6 +139,11 @@ double insert_uniform(std::uint64_t seed, std::uint64_t u);
 /// plus the largest present radius (and the gap). Larger for a larger `largest_radius`.
 std::pair<Vec3, Vec3> insert_reach(const InsertSpec& spec, double largest_radius);
 
+/// The side of the cells over the box [lo, hi] that an event's overlap test files particles
+/// in [m]: at least `reach` (two particles that can touch lie in adjacent cells), and large
+/// enough that the box holds at most 2^22 cells (a table of 16 MiB), thin boxes included.
+double insert_cell_side(const Vec3& lo, const Vec3& hi, double reach);
+
 /// One event: `wanted` candidates against `existing` (the whole system) and `boundaries` at
 /// `time`; accepted particles get ids next_id, next_id + 1, ... (next_id is advanced), zero
 /// force. Counters advance (draws, inserted, failed; not events or requested).

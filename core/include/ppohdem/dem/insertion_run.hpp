@@ -24,6 +24,8 @@ class InsertionRun {
   /// Inserts the particles due at the engine's step (collective with several ranks: every rank
   /// calls it). Events after step 0 add their particles' energy to input().
   void at_step(DemEngine& engine);
+  /// The wall time of this rank's at_step calls so far [s].
+  double seconds() const { return seconds_; }
   /// The kinetic, rotational and gravitational energy brought in after step 0 [J].
   Energies input() const;
   std::int64_t inserted() const;
@@ -34,12 +36,15 @@ class InsertionRun {
   void restore(const InsertionRecord& record, const std::string& source);
 
  private:
+  void insert_due(DemEngine& engine);  ///< at_step's work
+
   const SimulationSetup& setup_;
   std::vector<InsertSpec> specs_;
   std::filesystem::path file_;
   std::string header_;
   bool writer_;
   InsertionRecord record_;
+  double seconds_ = 0.0;
 };
 
 }  // namespace ppohdem::dem

@@ -50,6 +50,9 @@ struct RunSummary {
   CheckMargins margins;  ///< largest overlap and energy growth seen (run_diagnostics.hpp)
   std::int64_t inserted = 0;       ///< particles inserted by [[insert]] (insertion_run.hpp)
   std::int64_t insert_failed = 0;  ///< particles [[insert]] asked for but found no place for
+  /// Wall time of the [[insert]] events (rank 0): step 0's before the time loop, the later
+  /// ones part of wall_seconds [s]
+  double insert_seconds = 0.0;
   /// Kinetic, rotational and gravitational energy of the particles inserted after step 0 [J]
   Energies inserted_energy;
 };
