@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "ppohdem/dem/distance_field_object.hpp"
@@ -61,8 +61,8 @@ bool touches_boundary(const Boundary& boundary, const Vec3& centre, double r, do
 /// a candidate's possible partners lie in the 27 cells around its own. The cells are a dense
 /// table of list heads and each particle links to the next of its cell (Hockney & Eastwood,
 /// "Computer Simulation Using Particles", 1988, 8-4): a candidate reads nine runs of three
-/// adjacent heads, where a hash of cells cost a cache miss per cell (docs/objects.md
-/// "Particle insertion").
+/// adjacent heads, not a cache miss per cell as in a hash map (docs/performance.md "The
+/// candidates' cells").
 class NearParticles {
  public:
   /// `side` from insert_cell_side.
