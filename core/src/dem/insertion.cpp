@@ -57,6 +57,11 @@ bool touches_boundary(const Boundary& boundary, const Vec3& centre, double r, do
   return !contacts.empty() || boundary.has_escaped(centre, time);
 }
 
+/// The number of cells of side `side` along axis i of [lo, hi] (at least one).
+double cells_along(const Vec3& lo, const Vec3& hi, double side, int i) {
+  return std::max(1.0, std::ceil((hi[i] - lo[i]) / side));
+}
+
 /// The particles near the region in cells of side >= the largest sum of two radii, so that
 /// a candidate's possible partners lie in the 27 cells around its own. The cells are a dense
 /// table of list heads and each particle links to the next of its cell (Hockney & Eastwood,
@@ -67,7 +72,7 @@ class NearParticles {
  public:
   /// `side` from insert_cell_side.
   NearParticles(const Vec3& lo, const Vec3& hi, double side) : lo_(lo), side_(side) {
-    for (int i = 0; i < 3; ++i) dims_[i] = std::max<long>(1, static_cast<long>(std::ceil((hi[i] - lo[i]) / side_)));
+    for (int i = 0; i < 3; ++i) dims_[i] = static_cast<long>(cells_along(lo, hi, side_, i));
     head_.assign(static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]), kNone);
   }
   void add(const Vec3& x, double r) {
@@ -218,7 +223,7 @@ constexpr double kCellsWanted = 2097152.0;  ///< 2^21: the cube-root side's coun
 /// The number of cells of side `side` over [lo, hi] (at least one along each axis).
 double cells_over(const Vec3& lo, const Vec3& hi, double side) {
   double count = 1.0;
-  for (int i = 0; i < 3; ++i) count *= std::max(1.0, std::ceil((hi[i] - lo[i]) / side));
+  for (int i = 0; i < 3; ++i) count *= cells_along(lo, hi, side, i);
   return count;
 }
 
