@@ -89,7 +89,8 @@ FastState random_pairs(std::size_t pairs, std::mt19937_64& rng, bool equal_block
   s.f.assign(n, Vec3::Zero());
   s.t.assign(n, Vec3::Zero());
   s.terms.assign(n, FastState::ParticleTerms{});
-  s.spring_pools.assign(1, std::vector<TangentialSpring>(pairs));
+  s.spring_pools.assign(1, fast::SpringPool{});
+  s.spring_pools[0].resize(pairs);
   s.result_pools.assign(1, std::vector<PairResult>(pairs));
   s.pool_shift = 31;
   for (std::size_t p = 0; p < pairs; ++p) {
@@ -107,9 +108,8 @@ FastState random_pairs(std::size_t pairs, std::mt19937_64& rng, bool equal_block
     const double overlap = 0.05 * std::min(s.radius[i], s.radius[j]) * unit(rng);
     s.x[j] = 1e-3 * Vec3(u(rng), u(rng), u(rng));
     s.x[i] = s.x[j] + (s.radius[i] + s.radius[j] - overlap) * normal;
-    TangentialSpring& spring = s.spring_pools[0][p];
-    // Not a field of a pair spring (boundaries only): the law must leave it as it is (its wide
-    // stores end just before it).
+    TangentialSpring spring;
+    // Not a field of a pair spring (boundaries only): the law must leave it as it is.
     spring.surface_velocity = Vec3(u(rng), u(rng), u(rng));
     switch (p % 5) {
       case 0:  // a new contact: empty history
@@ -132,6 +132,7 @@ FastState random_pairs(std::size_t pairs, std::mt19937_64& rng, bool equal_block
         spring.stiffness = 800.0;
         break;
     }
+    s.spring_pools[0].set(p, spring);
   }
   return s;
 }
@@ -167,7 +168,8 @@ TEST_P(ContactsX4, EveryLaneIsBitwiseTheScalarContact) {
                           Mode{true, false, true}, Mode{false, true, true}}) {
     const bool energy = mode.energy;
     FastState s = random_pairs(pairs, rng, mode.equal_blocks);
-    const std::vector<TangentialSpring> before = s.spring_pools[0];
+    std::vector<TangentialSpring> before;
+    for (std::size_t p = 0; p < pairs; ++p) before.push_back(s.spring_pools[0].get(p));
     // Entries listed in reverse order of the pairs (not the storage order of the springs).
     std::vector<PairEntry> entries(pairs + 1);
     for (std::size_t p = pairs; p-- > 0;) {
@@ -192,7 +194,7 @@ TEST_P(ContactsX4, EveryLaneIsBitwiseTheScalarContact) {
     std::size_t slipping = 0, clamped = 0, differing = 0;
     for (std::size_t p = 0; p < pairs; ++p) {
       const Scalar want = scalar_contact(law, s, 2 * p, 2 * p + 1, before[p], dt);
-      const TangentialSpring& got = s.spring_pools[0][p];
+      const TangentialSpring got = s.spring_pools[0].get(p);
       const PairResult& result = s.result_pools[0][p];
       const PairEntry& entry = entries[pairs - 1 - p];
       // The branch vectors are kept only with the energies (their one reader); else untouched.

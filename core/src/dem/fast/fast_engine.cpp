@@ -289,7 +289,7 @@ const ThreadSpeeds& FastEngine::thread_speeds() const { return impl_->s.thread_s
 std::size_t FastEngine::memory_bytes() const {
   const FastState& s = impl_->s;
   std::size_t pool_bytes = bytes(s.spring_pools) + bytes(s.result_pools) + bytes(s.mirror) + bytes(s.upper_first) + bytes(s.lower_ghost);
-  for (const auto& pool : s.spring_pools) pool_bytes += bytes(pool);
+  for (const SpringPool& pool : s.spring_pools) pool_bytes += pool.bytes();
   for (const auto& pool : s.result_pools) pool_bytes += bytes(pool);
   pool_bytes += bytes(impl_->search_buffers) + bytes(impl_->search_probes.x) + bytes(impl_->search_probes.y) + bytes(impl_->search_probes.z) +
                 bytes(impl_->search_probes.r);  // the engine's reused work buffers

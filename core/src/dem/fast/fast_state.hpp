@@ -18,6 +18,7 @@
 #include "ppohdem/dem/engine.hpp"
 #include "ppohdem/dem/exact_sum.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
+#include "spring_pool.hpp"
 
 #ifdef PPOHDEM_WITH_OPENMP
 #include <omp.h>
@@ -223,7 +224,7 @@ struct FastState {
   // ranges move only when the pools are laid out afresh). Most slots of a Verlet list are not touching (about
   // 4 of 7 in a settled bed), so this keeps 4 bytes instead of a spring per idle slot. ---
   std::vector<std::uint32_t> spring_of;  ///< per slot: kNoSpring or (pool << pool_shift) | index
-  std::vector<std::vector<TangentialSpring>> spring_pools;
+  std::vector<SpringPool> spring_pools;  ///< each in three arrays (spring_pool.hpp)
   unsigned pool_shift = 31;  ///< bits of the index part of a code
   /// Per slot of an owned LOWER-id partner j: j's code for the pair (spring_of at j's slot of
   /// this particle, mirror), copied here so that the kernel's sum pass reads it in slot order
@@ -234,16 +235,18 @@ struct FastState {
   std::vector<std::uint32_t> lower_code;
   bool lower_codes_valid = false;  ///< cleared wherever spring_of or mirror is set afresh
 
-  TangentialSpring& spring_at(std::uint32_t code) {
-    return spring_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
+  std::size_t pool_index(std::uint32_t code) const { return code & ((std::uint32_t{1} << pool_shift) - 1); }
+  TangentialSpring spring_at(std::uint32_t code) const { return spring_pools[code >> pool_shift].get(pool_index(code)); }
+  void put_spring(std::uint32_t code, const TangentialSpring& spring) {
+    spring_pools[code >> pool_shift].set(pool_index(code), spring);
   }
-  const TangentialSpring& spring_at(std::uint32_t code) const {
-    return spring_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
-  }
+  /// The parts of spring `code` that the lane law reads and writes (spring_pool.hpp).
+  SpringCore& spring_core(std::uint32_t code) { return spring_pools[code >> pool_shift].core(pool_index(code)); }
+  SpringArms& spring_arms(std::uint32_t code) { return spring_pools[code >> pool_shift].arms(pool_index(code)); }
   /// A new empty spring in `pool`; its code.
   std::uint32_t new_spring(std::size_t pool) {
-    auto& springs = spring_pools[pool];
-    springs.emplace_back();
+    SpringPool& springs = spring_pools[pool];
+    springs.push_back(TangentialSpring{});
     return static_cast<std::uint32_t>((pool << pool_shift) | (springs.size() - 1));
   }
   /// The slot of owned particle k's list whose partner has id `partner_id` (the list is in
@@ -258,19 +261,15 @@ struct FastState {
   void set_spring(std::uint32_t slot, const TangentialSpring& spring) {
     std::uint32_t& code = spring_of[slot];
     if (code == kNoSpring) code = new_spring(0);
-    spring_at(code) = spring;
+    put_spring(code, spring);
     lower_codes_valid = false;
   }
   /// The last evaluation's result of the pair whose evaluating side holds spring `code`: laid
   /// out like spring_pools (result_pools[p][k] belongs to spring_pools[p][k]), kept as long
   /// as the pools by the kernel, valid only for the slots it evaluated in its last pass.
   std::vector<std::vector<PairResult>> result_pools;
-  PairResult& result_at(std::uint32_t code) {
-    return result_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
-  }
-  const PairResult& result_at(std::uint32_t code) const {
-    return result_pools[code >> pool_shift][code & ((std::uint32_t{1} << pool_shift) - 1)];
-  }
+  PairResult& result_at(std::uint32_t code) { return result_pools[code >> pool_shift][pool_index(code)]; }
+  const PairResult& result_at(std::uint32_t code) const { return result_pools[code >> pool_shift][pool_index(code)]; }
   // --- boundary contacts of the last evaluation, sorted by (particle, boundary, feature) ---
   std::vector<BoundaryRecord> records;
   std::vector<std::uint32_t> record_first;  ///< n + 1 offsets into records
@@ -456,7 +455,8 @@ inline void lay_out_springs(FastState& s, int threads, bool in_slot_order = fals
       return;
     }
   }
-  std::vector<TangentialSpring> packed(1);  // the entry of kNoSpring
+  SpringPool packed;
+  packed.resize(1);  // the entry of kNoSpring
   std::vector<std::uint32_t> codes(s.partner.size(), kNoSpring);
   if (s.spring_of.size() == s.partner.size()) {
     for (std::size_t slot = 0; slot < codes.size(); ++slot) {

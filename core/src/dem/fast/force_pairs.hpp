@@ -64,7 +64,7 @@ inline void evaluate_contacts_one_by_one(const K& kernel, FastState& s, PairEntr
     const Vec3& r_i = p.r_i;
     const Vec3& r_j = p.r_j;
     k.relative_displacement = dt * ((s.v[i] + s.w[i].cross(r_i)) - (s.v[j] + s.w[j].cross(r_j)));
-    TangentialSpring& sp = s.spring_at(entry.code);
+    TangentialSpring sp = s.spring_at(entry.code);
     if constexpr (K::kEnergy) {  // the energy terms' only use
       k.relative_displacement_previous_arms =
           dt * ((s.v[i] + s.w[i].cross(sp.branch_i)) - (s.v[j] + s.w[j].cross(sp.branch_j)));
@@ -78,6 +78,7 @@ inline void evaluate_contacts_one_by_one(const K& kernel, FastState& s, PairEntr
       sp.branch_i = r_i;
       sp.branch_j = r_j;
     }
+    s.put_spring(entry.code, sp);
     PairResult& result = s.result_at(entry.code);
     result.force = f.on_i;
     if (s.rolling) {  // the reference's sums (force_passes.hpp)
@@ -100,7 +101,7 @@ inline std::uint32_t new_spring_with_result(FastState& s, std::size_t range) {
   if (!free.empty()) {
     const std::uint32_t code = free.back();
     free.pop_back();
-    s.spring_at(code) = TangentialSpring{};
+    s.put_spring(code, TangentialSpring{});
     return code;
   }
   const std::size_t pool = 1 + range;
@@ -142,7 +143,7 @@ inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::s
           code = new_spring_with_result(s, pass.range);  // a new contact: empty history
         } else {  // ended: its stored energy is lost
           if constexpr (K::kEnergy) {
-            const TangentialSpring& sp = s.spring_at(code);
+            const TangentialSpring sp = s.spring_at(code);
             if (upper && sp.holds_history()) ended[i - chunk] += sp.stored_energy();
           }
           pass.out.free_springs.push_back(code);

@@ -25,9 +25,8 @@ namespace {
 
 // The wide stores below rely on these layouts (checked here, where they are used).
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles");
-static_assert(offsetof(TangentialSpring, stiffness) == offsetof(TangentialSpring, displacement) + 3 * sizeof(double));
-static_assert(offsetof(TangentialSpring, branch_i) == offsetof(TangentialSpring, stiffness) + sizeof(double));
-static_assert(offsetof(TangentialSpring, branch_j) == offsetof(TangentialSpring, branch_i) + 3 * sizeof(double));
+static_assert(offsetof(SpringCore, stiffness) == offsetof(SpringCore, displacement) + 3 * sizeof(double));
+static_assert(offsetof(SpringArms, branch_j) == offsetof(SpringArms, branch_i) + 3 * sizeof(double));
 static_assert(offsetof(PairResult, torque_i) == offsetof(PairResult, force) + 3 * sizeof(double));
 static_assert(offsetof(PairResult, torque_j) == offsetof(PairResult, torque_i) + 3 * sizeof(double));
 

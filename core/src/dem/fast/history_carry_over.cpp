@@ -127,12 +127,12 @@ void FastEngine::Impl::install_history(const History& h, const std::vector<std::
     // (docs/performance.md "Cheaper list builds, second pass").
     s.spring_pools.resize(1);
     s.pool_shift = 31;
-    std::vector<TangentialSpring>& pool = s.spring_pools[0];
+    SpringPool& pool = s.spring_pools[0];
     pool.resize(next);
-    pool[0] = TangentialSpring{};
+    pool.set(0, TangentialSpring{});
     PPOHDEM_OMP(omp parallel for schedule(static) if (n >= kParallelMin))
     for (std::size_t b = 0; b < source.size(); ++b) {
-      if (source[b] != kNone) pool[s.spring_of[b]] = h.spring[source[b]];
+      if (source[b] != kNone) pool.set(s.spring_of[b], h.spring[source[b]]);
     }
     lay_out_springs(s, kernel_threads(n), /*in_slot_order=*/true);  // checks the code range, adds the ranges' pools
   }
