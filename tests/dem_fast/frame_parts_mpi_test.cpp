@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "mpi_case.hpp"
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/output_writers.hpp"
 #include "ppohdem/dem/simulation_setup.hpp"
@@ -54,18 +55,12 @@ Particles particles(std::size_t n) {
 
 int main(int argc, char** argv) {
   using namespace ppohdem;
-  const CommEnvironment environment(&argc, &argv);
-  const Comm& comm = environment.world();
+  test::MpiCase run(&argc, &argv);
+  const Comm& comm = run.comm();
   const int me = comm.rank();
   const std::size_t ranks = static_cast<std::size_t>(comm.size());
-  const std::filesystem::path dir =
-      std::filesystem::path(PPOHDEM_BINARY_DIR) / "tests_scratch" / "dem_frame_parts" / std::to_string(ranks);
-  if (me == 0) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-  }
-  comm.barrier();
-  int failures = 0, cases = 0;
+  const std::filesystem::path dir = run.scratch("dem_frame_parts");
+  int cases = 0;
   const double nan = std::numeric_limits<double>::quiet_NaN();
 
   // One case: `all` cut into parts of the given sizes (summing to all.size()).
@@ -85,11 +80,9 @@ int main(int argc, char** argv) {
     for (const char* extension : {".vtk", ".pov"}) {
       const std::string oracle = bytes(std::filesystem::path(stem).concat(extension));
       const std::string parts = bytes(std::filesystem::path(stem).concat(std::string(".parts") + extension));
-      if (oracle.empty() || parts != oracle) {
-        std::printf("%s%s: the file in parts (%zu bytes) is not the one-rank file (%zu bytes)\n", name.c_str(),
-                    extension, parts.size(), oracle.size());
-        ++failures;
-      }
+      run.expect(!oracle.empty() && parts == oracle,
+                 name + extension + ": the file in parts (" + std::to_string(parts.size()) +
+                     " bytes) is not the one-rank file (" + std::to_string(oracle.size()) + " bytes)");
     }
   };
   // The cuts of n particles: ordered_part's, all on rank 0, all on the last rank, the middle
@@ -140,6 +133,7 @@ int main(int argc, char** argv) {
     zeros[i].radius = 0.0;
   }
   for (const auto& sizes : cuts(zeros.size())) check("zeros_" + std::to_string(cases), zeros, sizes, header);
+  const int failures = run.failures_over_ranks();
   if (me == 0) std::printf("%d cases at %zu ranks, %d failures\n", cases, ranks, failures);
   return failures == 0 ? 0 : 1;
 }

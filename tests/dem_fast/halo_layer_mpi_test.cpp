@@ -11,27 +11,17 @@
 #include <string>
 
 #include "bed_scene.hpp"
+#include "mpi_case.hpp"
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/scene.hpp"
 
 int main(int argc, char** argv) {
   using namespace ppohdem;
-  const CommEnvironment environment(&argc, &argv);
-  const Comm& comm = environment.world();
+  test::MpiCase run(&argc, &argv);
+  const Comm& comm = run.comm();
   const std::filesystem::path dir =
-      std::filesystem::path(PPOHDEM_BINARY_DIR) / "tests_scratch" / "dem_halo_layer" / std::to_string(comm.size());
-  if (comm.rank() == 0) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    test::write_bed(dir, 15, 15, 19, 200, 100);
-  }
-  comm.barrier();
-  int failures = 0;
-  auto fail = [&](const std::string& what) {
-    std::printf("rank %d: %s\n", comm.rank(), what.c_str());
-    ++failures;
-  };
+      run.scratch("dem_halo_layer", [](const std::filesystem::path& d) { test::write_bed(d, 15, 15, 19, 200, 100); });
   for (const bool balance : {true, false}) {
     const std::string mode = balance ? "balance rcb" : "balance off";
     dem::Scene scene = dem::read_scene(dir / "bed.toml");
@@ -45,11 +35,11 @@ int main(int argc, char** argv) {
     auto check_build = [&](long step) {
       ++builds;
       const std::size_t interior = engine.interior_count();
-      if (interior > engine.owned_count()) fail(mode + ": more interior particles than owned ones");
+      if (interior > engine.owned_count()) run.fail(mode + ": more interior particles than owned ones");
       fewest_interior = std::min(fewest_interior, interior);
       fewest_layer = std::min(fewest_layer, engine.owned_count() - interior);
       if (const std::size_t near = engine.interior_near_ghosts(); near != 0) {
-        fail(mode + ": after the build of step " + std::to_string(step) + ", " + std::to_string(near) +
+        run.fail(mode + ": after the build of step " + std::to_string(step) + ", " + std::to_string(near) +
              " interior particles have a ghost partner");
       }
     };
@@ -65,16 +55,15 @@ int main(int argc, char** argv) {
     const dem::fast::LoadReport report = engine.load_report();
     const long expected = scene.steps - step_builds - 1;  // not step 1, not a build
     if (report.overlapped_refreshes != expected) {
-      fail(mode + ": " + std::to_string(report.overlapped_refreshes) + " overlapped refreshes, expected " +
+      run.fail(mode + ": " + std::to_string(report.overlapped_refreshes) + " overlapped refreshes, expected " +
            std::to_string(expected));
     }
-    if (fewest_interior == 0) fail(mode + ": a build left no interior particle");
-    if (fewest_layer == 0) fail(mode + ": a build left an empty halo layer");
-    if (step_builds < 2) fail(mode + ": fewer than 2 list builds in the run: the test exercises too little");
+    if (fewest_interior == 0) run.fail(mode + ": a build left no interior particle");
+    if (fewest_layer == 0) run.fail(mode + ": a build left an empty halo layer");
+    if (step_builds < 2) run.fail(mode + ": fewer than 2 list builds in the run: the test exercises too little");
     std::printf("rank %d of %d, %s: %ld builds, interior >= %zu, halo layer >= %zu of %zu owned, %ld refreshes overlapped\n",
                 comm.rank(), comm.size(), mode.c_str(), builds, fewest_interior, fewest_layer, engine.owned_count(),
                 report.overlapped_refreshes);
   }
-  const double total = comm.sum_over_ranks(static_cast<double>(failures));
-  return total == 0.0 ? 0 : 1;
+  return run.exit_code();
 }

@@ -10,25 +10,19 @@
 #include <string>
 
 #include "bed_scene.hpp"
+#include "mpi_case.hpp"
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/scene.hpp"
 
 int main(int argc, char** argv) {
   using namespace ppohdem;
-  const CommEnvironment environment(&argc, &argv);
-  const Comm& comm = environment.world();
-  const std::filesystem::path dir = std::filesystem::path(PPOHDEM_BINARY_DIR) / "tests_scratch" / "dem_one_collective" /
-                                    std::to_string(comm.size());
+  test::MpiCase run(&argc, &argv);
+  const Comm& comm = run.comm();
   // The bed of the bitwise MPI tests: particles cross brick faces and the lists are rebuilt
   // every few tens of steps (bed_scene.hpp), so both kinds of step occur in 150 steps.
-  if (comm.rank() == 0) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    test::write_bed(dir, 12, 8, 6, 150, 0);
-  }
-  comm.barrier();
-  int failures = 0;
+  const std::filesystem::path dir =
+      run.scratch("dem_one_collective", [](const std::filesystem::path& d) { test::write_bed(d, 12, 8, 6, 150, 0); });
   for (const bool energies : {true, false}) {
     dem::Scene scene = dem::read_scene(dir / "bed.toml");
     scene.setup.energy_balance = energies;
@@ -52,18 +46,13 @@ int main(int argc, char** argv) {
         at_builds += ' ';
         at_builds += std::to_string(entered);
       } else if (step == 1) {
-        if (entered != 2) {
-          std::printf("rank %d: step 1 (no drift predicted yet) entered %llu collectives, expected 2\n", comm.rank(),
-                      static_cast<unsigned long long>(entered));
-          ++failures;
-        }
+        run.expect(entered == 2,
+                   "step 1 (no drift predicted yet) entered " + std::to_string(entered) + " collectives, expected 2");
       } else {
         ++steady;
-        if (entered != 1) {
-          std::printf("rank %d: energies %s: step %ld (no list build) entered %llu collectives, expected 1\n", comm.rank(),
-                      energies ? "tracked" : "untracked", step, static_cast<unsigned long long>(entered));
-          ++failures;
-        }
+        run.expect(entered == 1, std::string("energies ") + (energies ? "tracked" : "untracked") + ": step " +
+                                     std::to_string(step) + " (no list build) entered " + std::to_string(entered) +
+                                     " collectives, expected 1");
       }
     }
     if (comm.rank() == 0) {
@@ -71,11 +60,9 @@ int main(int argc, char** argv) {
                   "collectives\n",
                   comm.size(), energies ? "tracked" : "untracked", steady, builds, at_builds.c_str());
     }
-    if (steady < 50 || builds < 2) {  // the window must hold both kinds of step
-      std::printf("rank %d: %ld steady steps and %ld builds: the bed no longer exercises both\n", comm.rank(), steady, builds);
-      ++failures;
-    }
+    run.expect(steady >= 50 && builds >= 2,  // the window must hold both kinds of step
+               std::to_string(steady) + " steady steps and " + std::to_string(builds) +
+                   " builds: the bed no longer exercises both");
   }
-  const double total = comm.sum_over_ranks(static_cast<double>(failures));
-  return total == 0.0 ? 0 : 1;
+  return run.exit_code();
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bed_scene.hpp"
+#include "mpi_case.hpp"
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/dem/fast/fast_engine.hpp"
 #include "ppohdem/dem/scene.hpp"
@@ -34,21 +35,10 @@ bool same_bits(const Particle& a, const Particle& b) {
 
 int main(int argc, char** argv) {
   using namespace ppohdem;
-  const CommEnvironment environment(&argc, &argv);
-  const Comm& comm = environment.world();
+  test::MpiCase run(&argc, &argv);
+  const Comm& comm = run.comm();
   const std::filesystem::path dir =
-      std::filesystem::path(PPOHDEM_BINARY_DIR) / "tests_scratch" / "dem_particles_in" / std::to_string(comm.size());
-  if (comm.rank() == 0) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    test::write_bed(dir, 12, 12, 10, 60, 60);
-  }
-  comm.barrier();
-  int failures = 0;
-  auto fail = [&](const std::string& what) {
-    std::printf("rank %d: %s\n", comm.rank(), what.c_str());
-    ++failures;
-  };
+      run.scratch("dem_particles_in", [](const std::filesystem::path& d) { test::write_bed(d, 12, 12, 10, 60, 60); });
   const dem::Scene scene = dem::read_scene(dir / "bed.toml");
   dem::fast::FastOptions options;
   options.comm = &comm;
@@ -63,7 +53,7 @@ int main(int argc, char** argv) {
     expected.largest_radius = std::max(expected.largest_radius, p.radius);
   }
   if (extent.largest_id != expected.largest_id || extent.largest_radius != expected.largest_radius) {
-    fail("particle_extent: " + std::to_string(extent.largest_id) + ", " + std::to_string(extent.largest_radius) +
+    run.fail("particle_extent: " + std::to_string(extent.largest_id) + ", " + std::to_string(extent.largest_radius) +
          " instead of " + std::to_string(expected.largest_id) + ", " + std::to_string(expected.largest_radius));
   }
 
@@ -92,19 +82,19 @@ int main(int argc, char** argv) {
       }
     }
     if (got.size() != want.size()) {
-      fail(what + ": " + std::to_string(got.size()) + " particles instead of " + std::to_string(want.size()));
+      run.fail(what + ": " + std::to_string(got.size()) + " particles instead of " + std::to_string(want.size()));
       continue;
     }
     for (std::size_t k = 0; k < got.size(); ++k) {
       if (!same_bits(got[k], want[k])) {
-        fail(what + ": particle " + std::to_string(k) + " (id " + std::to_string(got[k].id) + ") differs from particles()'s");
+        run.fail(what + ": particle " + std::to_string(k) + " (id " + std::to_string(got[k].id) +
+                 ") differs from particles()'s");
         break;
       }
     }
     if (!want.empty() && want.size() < all.size()) ++found_in_some;
     std::printf("rank %d of %d, %s: %zu of %zu particles\n", comm.rank(), comm.size(), what.c_str(), got.size(), all.size());
   }
-  if (found_in_some < 3) fail("fewer than 3 cases select a proper part of the particles: the test exercises too little");
-  const double total = comm.sum_over_ranks(static_cast<double>(failures));
-  return total == 0.0 ? 0 : 1;
+  run.expect(found_in_some >= 3, "fewer than 3 cases select a proper part of the particles: the test exercises too little");
+  return run.exit_code();
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mpi_case.hpp"
 #include "ppohdem/comm/comm.hpp"
 
 namespace {
@@ -25,20 +26,13 @@ ppohdem::Bytes block(int from, int to, int round) {
 
 int main(int argc, char** argv) {
   using namespace ppohdem;
-  const CommEnvironment environment(&argc, &argv);
-  const Comm& comm = environment.world();
+  test::MpiCase run(&argc, &argv);
+  const Comm& comm = run.comm();
   const int me = comm.rank(), ranks = comm.size();
   std::vector<int> peers;  // every other rank, ascending (symmetric)
   for (int r = 0; r < ranks; ++r) {
     if (r != me) peers.push_back(r);
   }
-  int failures = 0;
-  auto expect = [&](bool ok, const std::string& what) {
-    if (!ok) {
-      std::printf("rank %d: %s\n", me, what.c_str());
-      ++failures;
-    }
-  };
   std::vector<std::vector<Bytes>> to(2, std::vector<Bytes>(peers.size()));
   std::vector<std::vector<std::size_t>> sizes(2, std::vector<std::size_t>(peers.size()));
   std::size_t nonempty[2] = {0, 0};  // blocks this rank sends in each round
@@ -62,18 +56,18 @@ int main(int argc, char** argv) {
   comm.finish_exchange(*first);
   comm.finish_exchange(*first);  // a second finish waits for nothing
   // Both posted rounds and the blocking one (round 0's blocks again).
-  expect(comm.messages_sent() - sent_before == nonempty[0] + nonempty[1] + nonempty[0],
+  run.expect(comm.messages_sent() - sent_before == nonempty[0] + nonempty[1] + nonempty[0],
          "messages_sent counts one message per nonempty block");
   const Comm::PostedExchange* posted[2] = {first.get(), second.get()};
   for (int round = 0; round < 2; ++round) {
-    expect(posted[round]->from.size() == peers.size(), "one block per peer");
+    run.expect(posted[round]->from.size() == peers.size(), "one block per peer");
     for (std::size_t i = 0; i < peers.size() && i < posted[round]->from.size(); ++i) {
-      expect(posted[round]->from[i] == block(peers[i], me, round),
+      run.expect(posted[round]->from[i] == block(peers[i], me, round),
              "round " + std::to_string(round) + ": the block from rank " + std::to_string(peers[i]));
     }
   }
-  expect(blocking == first->from, "the posted exchange's blocks are exchange_with's");
-  const double total = comm.sum_over_ranks(static_cast<double>(failures));
-  if (me == 0) std::printf("%d ranks: posted exchanges %s\n", ranks, total == 0.0 ? "deliver every block" : "FAILED");
-  return total == 0.0 ? 0 : 1;
+  run.expect(blocking == first->from, "the posted exchange's blocks are exchange_with's");
+  const int exit_code = run.exit_code();
+  if (me == 0) std::printf("%d ranks: posted exchanges %s\n", ranks, exit_code == 0 ? "deliver every block" : "FAILED");
+  return exit_code;
 }

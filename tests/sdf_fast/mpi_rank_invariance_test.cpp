@@ -3,7 +3,9 @@
 // rank 0, for double and float storage, on a closed mesh and on an open one.
 #include <cstdio>
 #include <cstring>
+#include <string>
 
+#include "mpi_case.hpp"
 #include "ppohdem/comm/comm.hpp"
 #include "ppohdem/mesh/stl_io.hpp"
 #include "ppohdem/sdf/fast/fast_sdf_builder.hpp"
@@ -11,9 +13,8 @@
 
 int main(int argc, char** argv) {
   using namespace ppohdem;
-  const CommEnvironment environment(&argc, &argv);
-  const Comm& comm = environment.world();
-  int failures = 0;
+  test::MpiCase run(&argc, &argv);
+  const Comm& comm = run.comm();
   for (const char* name : {"meshes/fandisk.stl", "meshes/bunny.stl"}) {
     const TriangleMesh mesh = read_stl(test::fixture(name));
     const BoundingBox box = bounding_box(mesh);
@@ -36,14 +37,13 @@ int main(int argc, char** argv) {
         }
         std::printf("%s band %g on %d ranks: double %s, float %s\n", name, band, comm.size(),
                     same ? "identical" : "DIFFERENT", same_float ? "identical" : "DIFFERENT");
-        failures += same ? 0 : 1;
-        failures += same_float ? 0 : 1;
-      } else if (!distributed.values.empty() || !distributed_float.empty()) {
-        std::printf("rank %d received field values; only rank 0 should\n", comm.rank());
-        ++failures;
+        run.expect(same, std::string(name) + ": the double field differs");
+        run.expect(same_float, std::string(name) + ": the float field differs");
+      } else {
+        run.expect(distributed.values.empty() && distributed_float.empty(),
+                   "received field values; only rank 0 should");
       }
     }
   }
-  const double total = comm.sum_over_ranks(static_cast<double>(failures));
-  return total == 0.0 ? 0 : 1;
+  return run.exit_code();
 }
