@@ -3,7 +3,8 @@
 // it: at P = 2 and 4 ranks every rank writes its own part and rank 0 a manifest holding no
 // particle, and a restart from it at 1, 2, 3 and 4 ranks x 1 and 2 threads, and with the
 // reference engine, ends in the same files, bit for bit, as the uninterrupted run (the
-// oracle). Label mpi; built only with PPOHDEM_ENABLE_MPI.
+// oracle); so does a single-file checkpoint restarted at 2 and 3 ranks. Label mpi; built only
+// with PPOHDEM_ENABLE_MPI.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -76,6 +77,33 @@ TEST(CheckpointPartsMpi, WrittenPerRankRestartAtAnyRankAndThreadCountBitwise) {
         for (const char* file : {"final.csv", "energy.csv", "frame_000200.csv"}) {
           EXPECT_EQ(body(dir / "out" / file), body(whole_dir / "out" / file)) << file;
         }
+      }
+    }
+  }
+}
+
+// A single-file checkpoint (one rank, the fast and the reference engine's) restarts at 2 and 3
+// ranks: every rank reads the whole state and keeps what it owns (FastEngine::restore_state,
+// the whole-state path), and the run ends in the uninterrupted run's files, bit for bit.
+TEST(CheckpointPartsMpi, SingleFileRestartsAtSeveralRanksBitwise) {
+  const fs::path whole_dir = scratch("single_whole");
+  const CommandResult whole = run_mpi(1, 1, write_bed(whole_dir, kNx, kNy, kNz, kSteps, kEvery), "--quiet");
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  for (const char* engine : {"fast", "reference"}) {
+    const fs::path dir = scratch(std::string("single_") + engine);
+    const fs::path scene = write_bed(dir, kNx, kNy, kNz, kSteps, kEvery);
+    const CommandResult first =
+        run_mpi(1, 1, scene, std::string("--engine ") + engine + " --quiet --steps 100 --checkpoint-every 100");
+    ASSERT_EQ(first.exit_code, 0) << first.output;
+    const fs::path checkpoint = dir / "out" / "checkpoint.bin";
+    ASSERT_TRUE(ppohdem::dem::decode_checkpoint(bytes_of(checkpoint), checkpoint.string()).parts.empty());
+    for (const int ranks : {2, 3}) {
+      SCOPED_TRACE(std::string(engine) + " checkpoint, restarted at " + std::to_string(ranks) + " ranks");
+      fs::remove(dir / "out" / "final.csv");
+      const CommandResult second = run_mpi(ranks, 1, scene, "--quiet --restart '" + checkpoint.string() + "'");
+      ASSERT_EQ(second.exit_code, 0) << second.output;
+      for (const char* file : {"final.csv", "energy.csv", "frame_000200.csv"}) {
+        EXPECT_EQ(body(dir / "out" / file), body(whole_dir / "out" / file)) << file;
       }
     }
   }
