@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
       fewest_layer = std::min(fewest_layer, engine.owned_count() - interior);
       if (const std::size_t near = engine.interior_near_ghosts(); near != 0) {
         run.fail(mode + ": after the build of step " + std::to_string(step) + ", " + std::to_string(near) +
-             " interior particles have a ghost partner");
+                 " interior particles have a ghost partner");
       }
     };
     check_build(0);  // the construction's build
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     const long expected = scene.steps - step_builds - 1;  // not step 1, not a build
     if (report.overlapped_refreshes != expected) {
       run.fail(mode + ": " + std::to_string(report.overlapped_refreshes) + " overlapped refreshes, expected " +
-           std::to_string(expected));
+               std::to_string(expected));
     }
     if (fewest_interior == 0) run.fail(mode + ": a build left no interior particle");
     if (fewest_layer == 0) run.fail(mode + ": a build left an empty halo layer");

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   }
   if (extent.largest_id != expected.largest_id || extent.largest_radius != expected.largest_radius) {
     run.fail("particle_extent: " + std::to_string(extent.largest_id) + ", " + std::to_string(extent.largest_radius) +
-         " instead of " + std::to_string(expected.largest_id) + ", " + std::to_string(expected.largest_radius));
+             " instead of " + std::to_string(expected.largest_id) + ", " + std::to_string(expected.largest_radius));
   }
 
   const Vec3 lo(0.0, 0.0, 0.0), hi(2.1e-3 * 12, 2.1e-3 * 12, 2.1e-3 * 10 + 0.01);
