@@ -44,7 +44,6 @@ class MpiCase {
   void expect(bool ok, const std::string& what) {
     if (!ok) fail(what);
   }
-  int failures() const { return failures_; }
 
   /// The failures of all ranks (a collective: every rank calls it).
   int failures_over_ranks() const { return static_cast<int>(comm().sum_over_ranks(static_cast<double>(failures_))); }
