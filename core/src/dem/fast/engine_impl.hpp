@@ -258,6 +258,9 @@ struct FastEngine::Impl {
   void clear_particles();
   /// Appends a particle as owned, with its construction index.
   void append_owned(const Particle& p, std::size_t original);
+  /// One rank's insertion (FastEngine::insert_particles): `added` appended to the owned
+  /// particles, then a list build that carries every history over (fast_insert.cpp).
+  void insert_in_place(const Particles& added);
   /// After the owned particles are in place: the empty lists and exchanges they start from.
   void reset_lists();
 
