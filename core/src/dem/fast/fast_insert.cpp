@@ -37,8 +37,8 @@ void FastEngine::Impl::insert_in_place(const Particles& added) {
     if (p.material >= materials.size()) throw InputError("insert_particles: material index out of range");
     r_added = std::max(r_added, p.radius);
   }
-  // The loads of the last evaluation, summed before the build re-sorts the records (as a
-  // checkpoint holds them); every other sum is exact, in any order.
+  // The last evaluation's boundary loads, summed from its records before the build moves
+  // them, as a checkpoint holds them (the restart's path, fast_checkpoint.cpp).
   if (loads_stale) sum_loads();
   // The build's cell sort zeroes the particles' energy records (cell_sort.cpp): until the next
   // evaluation the stored elastic energy is the total before it, as after a restart.
