@@ -258,8 +258,8 @@ struct FastEngine::Impl {
   void clear_particles();
   /// Appends a particle as owned, with its construction index.
   void append_owned(const Particle& p, std::size_t original);
-  /// One rank's insertion (FastEngine::insert_particles): `added` appended to the owned
-  /// particles, then a list build that carries every history over (fast_insert.cpp).
+  /// FastEngine::insert_particles (collective): `added` appended to the owned particles (each
+  /// rank every P-th), then a list build that carries every history over (fast_insert.cpp).
   void insert_in_place(const Particles& added);
   /// After the owned particles are in place: the empty lists and exchanges they start from.
   void reset_lists();
@@ -287,6 +287,9 @@ struct FastEngine::Impl {
   /// The bricks of the particles given (the whole system, on every rank): equal bricks and,
   /// with balance on, the bisection; and the peers.
   void decompose_whole(const Particles& particles);
+  /// The same from the owned particles of every rank (collective): the equal bricks over the
+  /// box of every centre unless made, the bisection with balance on; and the peers.
+  void decompose_owned();
 
   /// Initial overlaps above 1 % of the smaller radius among the owned particles and their
   /// ghosts (a shared setup's check, after the first list build; collective): every rank

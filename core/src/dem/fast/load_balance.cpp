@@ -26,6 +26,29 @@ void FastEngine::Impl::decompose_whole(const Particles& particles) {
   update_peers();
 }
 
+void FastEngine::Impl::decompose_owned() {
+  // Equal bricks over the box of every centre (minima and maxima: the same bits as from all
+  // the centres on one rank), and the bisection of the owned centres (collective, the one a
+  // re-cut makes).
+  if (!equal_bricks_made) {
+    std::vector<double> box(6, -std::numeric_limits<double>::infinity());  // -lo, hi
+    for (std::size_t k = 0; k < s.owned; ++k) {
+      for (int a = 0; a < 3; ++a) {
+        box[static_cast<std::size_t>(a)] = std::max(box[static_cast<std::size_t>(a)], -s.x[k][a]);
+        box[static_cast<std::size_t>(3 + a)] = std::max(box[static_cast<std::size_t>(3 + a)], s.x[k][a]);
+      }
+    }
+    box = comm->max_each_over_ranks(std::move(box));
+    if (total == 0) box.assign(6, 0.0);  // as Decomposition's empty box
+    equal_bricks = Decomposition(comm->size(), Vec3(-box[0], -box[1], -box[2]), Vec3(box[3], box[4], box[5]));
+    equal_bricks_made = true;
+  }
+  decomposition = balance == FastOptions::Balance::kBisection
+                      ? Decomposition::bisection(comm->size(), s.x, s.id, s.owned, *comm)
+                      : equal_bricks;
+  update_peers();
+}
+
 void FastEngine::Impl::rebalance(History& h) {
   if (balance != FastOptions::Balance::kBisection || !distributed()) return;
   // The load is the particle count: the force pass costs about the same per particle in the

@@ -85,26 +85,7 @@ void FastEngine::Impl::place_share(const Particles& particles, const ParticleSha
   for (std::size_t i = 0; i < particles.size(); ++i) append_owned(particles[i], share.first + i);
   if (escaped_flags) s.escaped_via.assign(escaped_flags->begin(), escaped_flags->end());  // (only the warning uses the boundary)
   s.owned = s.id.size();
-  // The bricks of all the shares: equal ones over the box of every centre (minima and maxima:
-  // the same bits as from all the centres on one rank), and the bisection of the shares'
-  // centres (collective, the one a re-cut makes).
-  if (!equal_bricks_made) {
-    std::vector<double> box(6, -std::numeric_limits<double>::infinity());  // -lo, hi
-    for (const Vec3& x : s.x) {
-      for (int a = 0; a < 3; ++a) {
-        box[static_cast<std::size_t>(a)] = std::max(box[static_cast<std::size_t>(a)], -x[a]);
-        box[static_cast<std::size_t>(3 + a)] = std::max(box[static_cast<std::size_t>(3 + a)], x[a]);
-      }
-    }
-    box = comm->max_each_over_ranks(std::move(box));
-    if (total == 0) box.assign(6, 0.0);  // as Decomposition's empty box
-    equal_bricks = Decomposition(comm->size(), Vec3(-box[0], -box[1], -box[2]), Vec3(box[3], box[4], box[5]));
-    equal_bricks_made = true;
-  }
-  decomposition = balance == FastOptions::Balance::kBisection
-                      ? Decomposition::bisection(comm->size(), s.x, s.id, s.owned, *comm)
-                      : equal_bricks;
-  update_peers();
+  decompose_owned();
   if (carried.first.size() != s.owned + 1) {  // nothing carried
     carried = History{};
     carried.first.assign(s.owned + 1, 0);

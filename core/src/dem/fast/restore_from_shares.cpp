@@ -31,7 +31,7 @@ void FastEngine::restore_state_share(const EngineStateShare& share, std::size_t 
     throw InputError("checkpoint: " + std::to_string(share.total) + " particles, the scene has " + std::to_string(m.total) +
                      (inserted > 0 ? " and " + std::to_string(inserted) + " inserted" : std::string()));
   }
-  if (inserted > 0) {  // particles appended after the engine's (insert_particles, or a restart's)
+  if (inserted > 0) {  // particles the events of the run inserted after the scene's (a restart)
     double r_max = 0.0;
     bool unknown_material = false;
     for (std::size_t i = 0; i < share.state.particles.size(); ++i) {

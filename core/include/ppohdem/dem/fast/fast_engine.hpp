@@ -183,9 +183,9 @@ class FastEngine final : public DemEngine {
   Extent particle_extent() const override;
   /// Each rank's owned particles in the boxes, then one allgather of those only.
   Particles particles_in(const std::vector<CentreBox>& boxes) const override;
-  /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): each rank's share of
-  /// the state, with the new particles appended, is restored (a list build; collective with
-  /// several ranks; no gather).
+  /// Particle insertion (DemEngine::insert_particles, fast_insert.cpp): the new particles
+  /// appended (each rank takes every P-th), then one list build that carries every history
+  /// over (collective with several ranks; no gather, no reload).
   void insert_particles(const Particles& added) override;
   /// Deepest contact of the last evaluation (ties: smaller (boundary, id_a, id_b)).
   std::optional<LargestOverlap> largest_overlap() const override;
