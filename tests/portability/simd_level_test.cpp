@@ -81,6 +81,41 @@ TEST(SimdLevel, CpuLevelIsTheWidestTheKernelReports) {
 #endif
 }
 
+/// The vendor_id line of /proc/cpuinfo's first processor, or nullopt.
+std::optional<std::string> cpuinfo_vendor() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("vendor_id", 0) == 0) return line;
+  }
+  return std::nullopt;
+}
+
+TEST(SimdLevel, CpuVendorIsTheOneTheKernelReports) {
+#if !defined(__x86_64__)
+  EXPECT_FALSE(cpu_is_intel());
+#else
+  const auto vendor = cpuinfo_vendor();
+  if (!vendor) GTEST_SKIP() << "no /proc/cpuinfo vendor_id line";
+  EXPECT_EQ(cpu_is_intel(), vendor->find("GenuineIntel") != std::string::npos) << *vendor;
+#endif
+}
+
+// The DEM lanes' rule (docs/portability.md "DEM lane width"): four lanes instead of eight on an
+// Intel CPU unless PPOHDEM_SIMD asks for eight; every other case keeps the level.
+TEST(SimdLevel, DemLanesAreFourOnIntelUnlessEightAreAskedFor) {
+  EXPECT_EQ(dem_simd_level(SimdLevel::avx512, false, true), SimdLevel::avx);
+  EXPECT_EQ(dem_simd_level(SimdLevel::avx512, true, true), SimdLevel::avx512);
+  EXPECT_EQ(dem_simd_level(SimdLevel::avx512, false, false), SimdLevel::avx512);
+  EXPECT_EQ(dem_simd_level(SimdLevel::avx512, true, false), SimdLevel::avx512);
+  for (const bool forced : {false, true}) {
+    for (const bool intel : {false, true}) {
+      EXPECT_EQ(dem_simd_level(SimdLevel::avx, forced, intel), SimdLevel::avx);
+      EXPECT_EQ(dem_simd_level(SimdLevel::sse2, forced, intel), SimdLevel::sse2);
+    }
+  }
+}
+
 // Run by ctest once per value of PPOHDEM_SIMD (and unset): the level simd_level() gives, and the
 // paths the dispatch sites take at it.
 TEST(SimdLevel, ForcedLevelReachesEveryDispatch) {
@@ -96,9 +131,15 @@ TEST(SimdLevel, ForcedLevelReachesEveryDispatch) {
   using Simd = sdf::fast::TriangleTree::PacketSimd;
   const Simd packet = sdf::fast::TriangleTree::packet_simd_available();
   EXPECT_EQ(packet, expected == SimdLevel::avx512 ? Simd::avx512 : expected == SimdLevel::avx ? Simd::avx : Simd::sse2);
-  EXPECT_EQ(dem::fast::x4_contacts_available(), expected >= SimdLevel::avx);
-  EXPECT_EQ(dem::fast::x8_contacts_available(), expected >= SimdLevel::avx512);
+  // The DEM lanes: four on an Intel CPU with AVX-512 unless PPOHDEM_SIMD names a level.
+  const auto vendor = cpuinfo_vendor();
+  const bool intel = vendor && vendor->find("GenuineIntel") != std::string::npos;
+  const SimdLevel dem = !forced && intel && expected == SimdLevel::avx512 ? SimdLevel::avx : expected;
+  EXPECT_EQ(dem_simd_level(), dem);
+  EXPECT_EQ(dem::fast::x4_contacts_available(), dem >= SimdLevel::avx);
+  EXPECT_EQ(dem::fast::x8_contacts_available(), dem >= SimdLevel::avx512);
   RecordProperty("simd_level", simd_level_name(expected));
+  RecordProperty("dem_simd_level", simd_level_name(dem));
 }
 
 /// A legacy VTK file's bytes without its title line (line 2: program, host and date).

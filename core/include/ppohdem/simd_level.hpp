@@ -28,4 +28,14 @@ std::optional<SimdLevel> parse_simd_level(std::string_view text);
 /// process. Throws InputError for a bad value or a level this CPU does not run.
 SimdLevel simd_level();
 
+/// True if the CPU is Intel's (on x86-64; false elsewhere).
+bool cpu_is_intel();
+
+/// The level of the DEM fast engine's lanes (contacts, kicks and drifts, exact sums):
+/// simd_level(), except avx where PPOHDEM_SIMD is unset or auto and the CPU is an Intel one with
+/// AVX-512, on which the four-lane kernels are the faster (docs/portability.md "DEM lane
+/// width"). PPOHDEM_SIMD=avx512 still forces eight lanes. The same bits either way.
+SimdLevel dem_simd_level(SimdLevel level, bool forced, bool intel);
+SimdLevel dem_simd_level();
+
 }  // namespace ppohdem

@@ -158,7 +158,7 @@ void add_all_baseline(ExactSum& sum, std::span<double> terms) { add_all<2>(sum, 
 template <class T>
 void add_terms_at_level(ExactSum& sum, std::span<T> terms) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool eight = simd_level() >= SimdLevel::avx512;  // the level is fixed for the process
+  static const bool eight = dem_simd_level() >= SimdLevel::avx512;  // the level is fixed for the process
   if (eight) return add_all_avx512(sum, terms);
 #endif
   add_all_baseline(sum, terms);

@@ -55,4 +55,27 @@ SimdLevel simd_level() {
   return level;
 }
 
+bool cpu_is_intel() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  __builtin_cpu_init();
+  return __builtin_cpu_is("intel") != 0;
+#else
+  return false;
+#endif
+}
+
+SimdLevel dem_simd_level(SimdLevel level, bool forced, bool intel) {
+  return !forced && intel && level == SimdLevel::avx512 ? SimdLevel::avx : level;
+}
+
+SimdLevel dem_simd_level() {
+  static const SimdLevel level = [] {
+    const SimdLevel chosen = simd_level();  // throws first for a bad PPOHDEM_SIMD
+    const char* text = std::getenv("PPOHDEM_SIMD");
+    const bool forced = parse_simd_level(text != nullptr ? text : "").has_value();
+    return dem_simd_level(chosen, forced, cpu_is_intel());
+  }();
+  return level;
+}
+
 }  // namespace ppohdem

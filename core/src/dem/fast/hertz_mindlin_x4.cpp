@@ -163,9 +163,9 @@ template <bool kEnergy>
 
 }  // namespace
 
-bool x4_contacts_available() { return simd_level() >= SimdLevel::avx; }  // the CPU's, or PPOHDEM_SIMD's
+bool x4_contacts_available() { return dem_simd_level() >= SimdLevel::avx; }  // simd_level.hpp
 
-bool x8_contacts_available() { return simd_level() >= SimdLevel::avx512; }
+bool x8_contacts_available() { return dem_simd_level() >= SimdLevel::avx512; }
 
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, std::size_t count, double dt,

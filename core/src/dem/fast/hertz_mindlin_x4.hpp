@@ -1,6 +1,6 @@
 #pragma once
 // Hertz-Mindlin contacts with tangential history, four at a time (AVX, 4 doubles per register)
-// or eight (AVX-512F, where the CPU has it: simd_level() avx512).
+// or eight (AVX-512F, where the CPU has it: dem_simd_level() avx512).
 // Private to core/src/dem/fast. The formulas are those of ppohdem/dem/contact_force.hpp and
 // ppohdem/dem/contact_law.hpp, written lane-wise with the same operations in the same order:
 // IEEE addition, multiplication, division and square root are correctly rounded in every lane
@@ -20,7 +20,7 @@ namespace ppohdem::dem::fast {
 
 /// True if this CPU runs the AVX path (checked once; false off x86-64).
 bool x4_contacts_available();
-/// True if hertz_mindlin_x4 takes eight contacts at a time (simd_level() avx512).
+/// True if hertz_mindlin_x4 takes eight contacts at a time (dem_simd_level() avx512).
 bool x8_contacts_available();
 
 /// What the law can also do for the force kernel's first pass ("Each pair once",
