@@ -36,10 +36,15 @@ std::optional<SimdLevel> parse_simd_level(std::string_view text) {
 }
 
 namespace {
+/// PPOHDEM_SIMD's level, or nullopt when it is unset or auto.
+std::optional<SimdLevel> forced_simd_level() {
+  const char* text = std::getenv("PPOHDEM_SIMD");
+  return parse_simd_level(text != nullptr ? text : "");
+}
+
 SimdLevel resolve_simd_level() {
   const SimdLevel cpu = cpu_simd_level();
-  const char* text = std::getenv("PPOHDEM_SIMD");
-  const std::optional<SimdLevel> forced = parse_simd_level(text != nullptr ? text : "");
+  const std::optional<SimdLevel> forced = forced_simd_level();
   if (!forced) return cpu;
   if (*forced > cpu) {
     throw InputError(std::string("environment variable PPOHDEM_SIMD: '") + simd_level_name(*forced) +
@@ -71,9 +76,7 @@ SimdLevel dem_simd_level(SimdLevel level, bool forced, bool intel) {
 SimdLevel dem_simd_level() {
   static const SimdLevel level = [] {
     const SimdLevel chosen = simd_level();  // throws first for a bad PPOHDEM_SIMD
-    const char* text = std::getenv("PPOHDEM_SIMD");
-    const bool forced = parse_simd_level(text != nullptr ? text : "").has_value();
-    return dem_simd_level(chosen, forced, cpu_is_intel());
+    return dem_simd_level(chosen, forced_simd_level().has_value(), cpu_is_intel());
   }();
   return level;
 }
