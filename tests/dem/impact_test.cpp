@@ -1,8 +1,11 @@
 // Binary impacts against analytic answers, run as typed contract tests over every engine.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <vector>
 
 #include "dem_test_support.hpp"
 #include "ppohdem/dem/hertz_damping.hpp"
@@ -160,6 +163,26 @@ TEST(HertzDamping, RestitutionMapIsConverged) {
   }
   // The elastic scaled duration is 2.868 (9/16)^{-1/5} = 3.2181 (Johnson 1985, eq. 11.24).
   EXPECT_NEAR(hertz_damped_impact(0.0).scaled_duration, 3.2181, 1e-4);
+}
+
+TEST(HertzDamping, DampingRatioIsThePlainBisectionsBits) {
+  // The definition, written out: 40 halvings of [0, 10] on e(mid) > e, each mid integrated.
+  auto plain_bisection = [](double e) {
+    double lo = 0.0;
+    double hi = 10.0;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      if (hertz_damped_impact(mid, 1.0e-4).restitution > e) lo = mid; else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  // A grid over the reachable range, values near 1 (alpha near 0) and off-grid ones.
+  std::vector<double> restitutions = {0.999, 0.99, 0.123456789, 0.7071067811865476, 1.0 / 3.0};
+  for (int k = 1; k < 20; ++k) restitutions.push_back(0.05 * k);
+  for (const double e : restitutions) {
+    const double alpha = hertz_damping_ratio_for_restitution(e);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(alpha), std::bit_cast<std::uint64_t>(plain_bisection(e))) << "e = " << e;
+  }
 }
 
 }  // namespace
