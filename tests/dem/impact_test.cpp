@@ -177,7 +177,7 @@ TEST(HertzDamping, DampingRatioIsThePlainBisectionsBits) {
     return 0.5 * (lo + hi);
   };
   // A grid over the reachable range, values near 1 (alpha near 0) and off-grid ones.
-  std::vector<double> restitutions = {0.999, 0.99, 0.123456789, 0.7071067811865476, 1.0 / 3.0};
+  std::vector<double> restitutions = {0.9999999, 0.999, 0.99, 0.123456789, 0.7071067811865476, 1.0 / 3.0, 0.03};
   for (int k = 1; k < 20; ++k) restitutions.push_back(0.05 * k);
   for (const double e : restitutions) {
     const double alpha = hertz_damping_ratio_for_restitution(e);
