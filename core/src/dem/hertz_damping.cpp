@@ -44,21 +44,21 @@ HertzDampedImpact integrate(double alpha, double h) {
 double restitution_at(double alpha) { return integrate(alpha, 1.0e-4).restitution; }
 
 /// The alpha of 40 halvings of [0, 10] on "e(mid) > e" (hertz_damping.hpp), with a quarter of
-/// the integrations. e(alpha) decreases, so a mid at or below a point known to give more than
-/// e goes up, and one at or above a point known to give at most e goes down, without being
+/// the integrations. e(alpha) decreases, so a mid at or below a point integrated to more than
+/// e goes up, and one at or above a point integrated to at most e goes down, without being
 /// integrated. Regula falsi (Illinois) on ln e(alpha) first narrows that bracket [up, down] to
 /// about the halvings' last width; then the halvings are replayed, integrating only the mids
-/// inside it: about 10 integrations instead of 41 (docs/dem.md "Model and formulas").
-double bisection_by_bracket(double restitution) {
+/// inside it: about 10 integrations instead of 40 (docs/dem.md "Model and formulas"). Only
+/// integrated points decide; the ends 0 and 10 (e(10) from the coarse step of the range check)
+/// only steer the interpolation, as no mid reaches them.
+double bisection_by_bracket(double restitution, double coarse_e_at_ten) {
   const double target = std::log(restitution);
   double up = 0.0;  // e(0) = 1 > e
   double f_up = -target;
   double down = 10.0;
-  const double e_down = restitution_at(down);
-  const bool bracketed = !(e_down > restitution);  // else every mid is integrated
-  double f_down = std::min(std::log(e_down) - target, 0.0);
+  double f_down = std::min(std::log(coarse_e_at_ten) - target, 0.0);
   int kept = 0;  // Illinois: the side kept twice in a row halves its f
-  for (int i = 0; bracketed && i < 24 && down - up > 5.0e-12; ++i) {
+  for (int i = 0; i < 24 && down - up > 5.0e-12; ++i) {
     double c = down - f_down * (down - up) / (f_down - f_up);
     if (!(c > up && c < down)) c = 0.5 * (up + down);
     const double e = restitution_at(c);
@@ -80,9 +80,9 @@ double bisection_by_bracket(double restitution) {
   for (int i = 0; i < 40; ++i) {
     const double mid = 0.5 * (lo + hi);
     bool goes_up;  // e(mid) > e
-    if (bracketed && mid <= up) {
+    if (mid <= up) {
       goes_up = true;
-    } else if (bracketed && mid >= down) {
+    } else if (mid >= down) {
       goes_up = false;
     } else {
       goes_up = restitution_at(mid) > restitution;
@@ -109,11 +109,12 @@ double hertz_damping_ratio_for_restitution(double restitution) {
   static std::map<double, double> cache;
   const std::lock_guard<std::mutex> lock(mutex);
   if (auto it = cache.find(restitution); it != cache.end()) return it->second;
-  if (integrate(10.0, 1.0e-3).restitution > restitution) {
+  const double coarse_e_at_ten = integrate(10.0, 1.0e-3).restitution;
+  if (coarse_e_at_ten > restitution) {
     throw InputError("restitution " + std::to_string(restitution) +
                      " is below what the damped Hertz law reaches (alpha <= 10)");
   }
-  const double alpha = bisection_by_bracket(restitution);
+  const double alpha = bisection_by_bracket(restitution, coarse_e_at_ten);
   cache[restitution] = alpha;
   return alpha;
 }
