@@ -1,7 +1,7 @@
 // ExactSum's add of many terms in lanes (add_terms, ppohdem/dem/exact_sum.hpp): pieces of
 // 1,024 terms split by Rump's error-free extraction, each level's share summed exactly in
 // doubles (docs/dem.md "Sums over particles"). Built once for AVX-512F and once for the
-// baseline; both give the words of the term-by-term add.
+// baseline (and in four lanes for AVX); all give the words of the term-by-term add.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -28,8 +28,9 @@ constexpr int kLevelBits = 10;
 constexpr std::size_t kLanes = 8;  ///< the widest W below: pieces are padded to it
 constexpr std::uint64_t kMagnitude = ~(std::uint64_t{1} << 63);
 
-// W lanes as GCC/Clang vector types: eight in one AVX-512F register, two in an SSE2 one (the
-// loops are written in lanes: GCC vectorises per-lane arrays across the terms instead).
+// W lanes as GCC/Clang vector types: eight in one AVX-512F register, four in an AVX one, two
+// in an SSE2 one (the loops are written in lanes: GCC vectorises per-lane arrays across the
+// terms instead).
 // (Spelled out per width: GCC drops vector_size on an alias template with a dependent size.)
 template <std::size_t W>
 struct LaneTypes;
@@ -37,6 +38,11 @@ template <>
 struct LaneTypes<2> {
   typedef double Lanes __attribute__((vector_size(16)));
   typedef std::uint64_t Bits __attribute__((vector_size(16)));
+};
+template <>
+struct LaneTypes<4> {
+  typedef double Lanes __attribute__((vector_size(32)));
+  typedef std::uint64_t Bits __attribute__((vector_size(32)));
 };
 template <>
 struct LaneTypes<8> {
@@ -153,13 +159,23 @@ void add_all_baseline(ExactSum& sum, std::span<double> terms) { add_all<2>(sum, 
   add_all<8>(sum, terms);
   _mm256_zeroupper();
 }
+// The DEM's lanes are four on Intel CPUs with AVX-512 (docs/portability.md "DEM lane width").
+[[gnu::target("avx")]] void add_all_avx(ExactSum& sum, std::span<const double> terms) {
+  add_all<4>(sum, terms);
+  _mm256_zeroupper();
+}
+[[gnu::target("avx")]] void add_all_avx(ExactSum& sum, std::span<double> terms) {
+  add_all<4>(sum, terms);
+  _mm256_zeroupper();
+}
 #endif
 
 template <class T>
 void add_terms_at_level(ExactSum& sum, std::span<T> terms) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool eight = dem_simd_level() >= SimdLevel::avx512;  // the level is fixed for the process
-  if (eight) return add_all_avx512(sum, terms);
+  static const SimdLevel level = dem_simd_level();  // fixed for the process
+  if (level >= SimdLevel::avx512) return add_all_avx512(sum, terms);
+  if (level == SimdLevel::avx) return add_all_avx(sum, terms);
 #endif
   add_all_baseline(sum, terms);
 }
