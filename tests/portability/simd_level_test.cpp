@@ -116,6 +116,23 @@ TEST(SimdLevel, DemLanesAreFourOnIntelUnlessEightAreAskedFor) {
   }
 }
 
+// AVX-512VL's encoding for the four lanes exactly where the rule above made them four (and the
+// CPU has VL): never when PPOHDEM_SIMD names a level, nor on another vendor's or level's CPU.
+TEST(SimdLevel, DemFourLanesTakeAvx512VlOnlyWhereTheRuleMadeThemFour) {
+  EXPECT_TRUE(dem_four_lanes_avx512vl(SimdLevel::avx512, false, true, true));
+  EXPECT_FALSE(dem_four_lanes_avx512vl(SimdLevel::avx512, false, true, false));
+  EXPECT_FALSE(dem_four_lanes_avx512vl(SimdLevel::avx512, true, true, true));
+  EXPECT_FALSE(dem_four_lanes_avx512vl(SimdLevel::avx512, false, false, true));
+  for (const bool forced : {false, true}) {
+    for (const bool intel : {false, true}) {
+      for (const SimdLevel level : {SimdLevel::sse2, SimdLevel::avx}) {
+        EXPECT_FALSE(dem_four_lanes_avx512vl(level, forced, intel, true));
+        EXPECT_FALSE(dem_four_lanes_avx512vl(level, forced, intel, false));
+      }
+    }
+  }
+}
+
 // Run by ctest once per value of PPOHDEM_SIMD (and unset): the level simd_level() gives, and the
 // paths the dispatch sites take at it.
 TEST(SimdLevel, ForcedLevelReachesEveryDispatch) {
@@ -138,6 +155,9 @@ TEST(SimdLevel, ForcedLevelReachesEveryDispatch) {
   EXPECT_EQ(dem_simd_level(), dem);
   EXPECT_EQ(dem::fast::x4_contacts_available(), dem >= SimdLevel::avx);
   EXPECT_EQ(dem::fast::x8_contacts_available(), dem >= SimdLevel::avx512);
+  const auto flags = cpuinfo_flags();
+  const bool vl = flags && flags->find(" avx512vl ") != std::string::npos;
+  EXPECT_EQ(dem::fast::x4_contacts_in_avx512vl(), dem == SimdLevel::avx && expected == SimdLevel::avx512 && vl);
   RecordProperty("simd_level", simd_level_name(expected));
   RecordProperty("dem_simd_level", simd_level_name(dem));
 }
@@ -155,9 +175,12 @@ std::string vtk_without_title(const fs::path& file) {
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
+/// `level`: a value of PPOHDEM_SIMD.
+CommandResult ppohdem_at(const std::string& level, const std::string& arguments, const fs::path& cwd) {
+  return run_shell("cd " + quoted(cwd) + " && PPOHDEM_SIMD=" + level + " '" + PPOHDEM_EXE + "' " + arguments + " 2>&1");
+}
 CommandResult ppohdem_at(SimdLevel level, const std::string& arguments, const fs::path& cwd) {
-  return run_shell("cd " + quoted(cwd) + " && PPOHDEM_SIMD=" + simd_level_name(level) + " '" + PPOHDEM_EXE + "' " +
-                   arguments + " 2>&1");
+  return ppohdem_at(std::string(simd_level_name(level)), arguments, cwd);
 }
 
 /// The levels this CPU runs, narrowest first (at least sse2).
@@ -195,18 +218,23 @@ TEST(SimdLevels, FastSdfFieldIsTheSameBytesAtEveryLevel) {
 
 // The fast engine on a colliding frictional bed (1152 spheres, 200 steps, ctest's threads): avx
 // takes the four-lane contacts, avx512 the eight-lane ones (both the four-lane neighbour test),
-// sse2 the one-at-a-time code.
+// sse2 the one-at-a-time code, auto the CPU's own choice.
 TEST(SimdLevels, FastDemTrajectoryIsTheSameBytesAtEveryLevel) {
   const fs::path root = test::scratch_dir();
   std::vector<std::string> first;
   const std::vector<std::string> files = {"frame_000100.csv", "frame_000200.csv", "final.csv", "energy.csv"};
-  for (const SimdLevel level : runnable_levels()) {
-    const fs::path dir = root / simd_level_name(level);
+  // auto too: on an Intel CPU with AVX-512 its four lanes take AVX-512VL's encoding, which no
+  // named level does (dem_four_lanes_avx512vl).
+  std::vector<std::string> levels;
+  for (const SimdLevel level : runnable_levels()) levels.emplace_back(simd_level_name(level));
+  levels.emplace_back("auto");
+  for (const std::string& level : levels) {
+    const fs::path dir = root / level;
     fs::create_directories(dir);
     const fs::path scene = test::write_bed(dir, 12, 12, 8, 200, 100);
     const CommandResult r =
         ppohdem_at(level, "simulate --quiet --engine fast " + quoted(scene), dir);  // OMP_NUM_THREADS from ctest
-    ASSERT_EQ(r.exit_code, 0) << simd_level_name(level) << ": " << r.output;
+    ASSERT_EQ(r.exit_code, 0) << level << ": " << r.output;
     std::vector<std::string> bodies;
     for (const std::string& f : files) bodies.push_back(test::body(dir / "out" / f));
     ASSERT_GT(bodies[2].size(), 1152u * 10u) << "final.csv holds every particle";
@@ -215,7 +243,7 @@ TEST(SimdLevels, FastDemTrajectoryIsTheSameBytesAtEveryLevel) {
       continue;
     }
     for (std::size_t k = 0; k < files.size(); ++k) {
-      EXPECT_TRUE(bodies[k] == first[k]) << simd_level_name(level) << ": " << files[k] << " differs from sse2's";
+      EXPECT_TRUE(bodies[k] == first[k]) << level << ": " << files[k] << " differs from sse2's";
     }
   }
 }

@@ -38,4 +38,12 @@ bool cpu_is_intel();
 SimdLevel dem_simd_level(SimdLevel level, bool forced, bool intel);
 SimdLevel dem_simd_level();
 
+/// Whether the DEM's four-lane contacts may use AVX-512VL's encoding of their 256-bit
+/// operations (32 vector registers, mask registers, no 512-bit instruction): exactly where
+/// dem_simd_level() is avx by the rule above (the CPU runs avx512, PPOHDEM_SIMD unset or auto,
+/// an Intel CPU) and the CPU has AVX-512VL. PPOHDEM_SIMD=avx keeps plain AVX (docs/portability.md
+/// "DEM lane width"). The same bits either way.
+bool dem_four_lanes_avx512vl(SimdLevel level, bool forced, bool intel, bool vl);
+bool dem_four_lanes_avx512vl();
+
 }  // namespace ppohdem

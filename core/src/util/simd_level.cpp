@@ -73,6 +73,23 @@ SimdLevel dem_simd_level(SimdLevel level, bool forced, bool intel) {
   return !forced && intel && level == SimdLevel::avx512 ? SimdLevel::avx : level;
 }
 
+bool dem_four_lanes_avx512vl(SimdLevel level, bool forced, bool intel, bool vl) {
+  return !forced && intel && level == SimdLevel::avx512 && vl;
+}
+
+bool dem_four_lanes_avx512vl() {
+  static const bool vl = [] {
+    const SimdLevel chosen = simd_level();  // throws first for a bad PPOHDEM_SIMD
+    bool cpu_vl = false;
+#if defined(__x86_64__) && defined(__GNUC__)
+    __builtin_cpu_init();
+    cpu_vl = __builtin_cpu_supports("avx512vl") != 0;
+#endif
+    return dem_four_lanes_avx512vl(chosen, forced_simd_level().has_value(), cpu_is_intel(), cpu_vl);
+  }();
+  return vl;
+}
+
 SimdLevel dem_simd_level() {
   static const SimdLevel level = [] {
     const SimdLevel chosen = simd_level();  // throws first for a bad PPOHDEM_SIMD

@@ -1,8 +1,8 @@
-// Hertz-Mindlin contacts four (AVX) or eight (AVX-512F) at a time (see hertz_mindlin_x4.hpp).
-// The law itself is hertz_mindlin_lanes.inc, included once per width; every function that holds
-// a lane value carries its width's target and is inlined into hertz_mindlin_avx or
-// hertz_mindlin_avx512, called only after the CPU check: the rest of the program stays
-// SSE2-only. Built with -ffp-contract=off: AVX-512F has FMA, which would fuse a * b + c and
+// Hertz-Mindlin contacts four (AVX, or AVX-512VL's encoding of it) or eight (AVX-512F) at a
+// time (see hertz_mindlin_x4.hpp). The law itself is hertz_mindlin_lanes.inc, included once per
+// width and encoding; every function that holds a lane value carries its target and is inlined
+// into hertz_mindlin_avx, hertz_mindlin_avx512vl or hertz_mindlin_avx512, called only after the
+// CPU check: the rest of the program stays SSE2-only. Built with -ffp-contract=off: AVX-512F has FMA, which would fuse a * b + c and
 // change the bits (core/src/dem/CMakeLists.txt).
 #include "hertz_mindlin_x4.hpp"
 
@@ -32,54 +32,19 @@ static_assert(offsetof(PairResult, torque_j) == offsetof(PairResult, torque_i) +
 
 /// Four lanes (AVX): a group of four contacts.
 namespace lanes4 {
-using D = double __attribute__((vector_size(32)));
-constexpr std::size_t kWidth = 4;
 #define PPOHDEM_LANES [[gnu::target("avx"), gnu::always_inline]] inline
-PPOHDEM_LANES D sqrt_lanes(D a) { return reinterpret_cast<D>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(a))); }
-/// Row l = (a[l], b[l], c[l], d[l]) to the four doubles at to[l]: a 4 x 4 transpose and four
-/// unaligned 32-byte stores.
-PPOHDEM_LANES void store_rows(D a, D b, D c, D d, double* const* to) {
-  const __m256d ab_even = _mm256_unpacklo_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));  // a0 b0 a2 b2
-  const __m256d ab_odd = _mm256_unpackhi_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));   // a1 b1 a3 b3
-  const __m256d cd_even = _mm256_unpacklo_pd(reinterpret_cast<__m256d>(c), reinterpret_cast<__m256d>(d));
-  const __m256d cd_odd = _mm256_unpackhi_pd(reinterpret_cast<__m256d>(c), reinterpret_cast<__m256d>(d));
-  _mm256_storeu_pd(to[0], _mm256_permute2f128_pd(ab_even, cd_even, 0x20));
-  _mm256_storeu_pd(to[1], _mm256_permute2f128_pd(ab_odd, cd_odd, 0x20));
-  _mm256_storeu_pd(to[2], _mm256_permute2f128_pd(ab_even, cd_even, 0x31));
-  _mm256_storeu_pd(to[3], _mm256_permute2f128_pd(ab_odd, cd_odd, 0x31));
-}
-/// The transpose of store_rows: a[l], b[l], c[l], d[l] = the four doubles at from[l].
-PPOHDEM_LANES void load_rows(const double* const* from, D& a, D& b, D& c, D& d) {
-  const __m256d r0 = _mm256_loadu_pd(from[0]), r1 = _mm256_loadu_pd(from[1]);
-  const __m256d r2 = _mm256_loadu_pd(from[2]), r3 = _mm256_loadu_pd(from[3]);
-  const __m256d ac01 = _mm256_unpacklo_pd(r0, r1);  // a0 a1 c0 c1
-  const __m256d bd01 = _mm256_unpackhi_pd(r0, r1);  // b0 b1 d0 d1
-  const __m256d ac23 = _mm256_unpacklo_pd(r2, r3);
-  const __m256d bd23 = _mm256_unpackhi_pd(r2, r3);
-  a = reinterpret_cast<D>(_mm256_permute2f128_pd(ac01, ac23, 0x20));
-  b = reinterpret_cast<D>(_mm256_permute2f128_pd(bd01, bd23, 0x20));
-  c = reinterpret_cast<D>(_mm256_permute2f128_pd(ac01, ac23, 0x31));
-  d = reinterpret_cast<D>(_mm256_permute2f128_pd(bd01, bd23, 0x31));
-}
-/// Pair l = (a[l], b[l]) to the two doubles at to[l]: two unpacks and four 16-byte stores.
-PPOHDEM_LANES void store_pairs(D a, D b, double* const* to) {
-  const __m256d even = _mm256_unpacklo_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));  // a0 b0 a2 b2
-  const __m256d odd = _mm256_unpackhi_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b));   // a1 b1 a3 b3
-  _mm_storeu_pd(to[0], _mm256_castpd256_pd128(even));
-  _mm_storeu_pd(to[1], _mm256_castpd256_pd128(odd));
-  _mm_storeu_pd(to[2], _mm256_extractf128_pd(even, 1));
-  _mm_storeu_pd(to[3], _mm256_extractf128_pd(odd, 1));
-}
-/// The transpose of store_pairs: a[l], b[l] = the two doubles at from[l].
-PPOHDEM_LANES void load_pairs(const double* const* from, D& a, D& b) {
-  const __m256d even = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(from[0])), _mm_loadu_pd(from[2]), 1);
-  const __m256d odd = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(from[1])), _mm_loadu_pd(from[3]), 1);
-  a = reinterpret_cast<D>(_mm256_unpacklo_pd(even, odd));
-  b = reinterpret_cast<D>(_mm256_unpackhi_pd(even, odd));
-}
-#include "hertz_mindlin_lanes.inc"
+#include "hertz_mindlin_lanes4.inc"
 #undef PPOHDEM_LANES
 }  // namespace lanes4
+
+/// Four lanes encoded with AVX-512VL, for the CPUs whose DEM lanes are four although they run
+/// AVX-512 (dem_four_lanes_avx512vl): 32 registers instead of 16, so the law spills less, and
+/// its selections take mask registers.
+namespace lanes4vl {
+#define PPOHDEM_LANES [[gnu::target("avx512f,avx512vl"), gnu::always_inline]] inline
+#include "hertz_mindlin_lanes4.inc"
+#undef PPOHDEM_LANES
+}  // namespace lanes4vl
 
 /// Eight lanes (AVX-512F): a group of eight contacts. Its square roots and divisions, most of
 /// the law's time, take one instruction for eight contacts instead of two (docs/performance.md
@@ -142,6 +107,18 @@ template <bool kEnergy>
   }
 }
 
+/// The same in four lanes with AVX-512VL's encoding (lanes4vl).
+template <bool kEnergy>
+[[gnu::target("avx512f,avx512vl"), gnu::flatten]] void hertz_mindlin_avx512vl(const HertzMindlin& law, FastState& s,
+                                                                             PairEntry* entries, std::size_t count,
+                                                                             double dt, OwnSums* sums) {
+  const lanes4vl::LawLanes law4 = lanes4vl::law_lanes(law, dt);
+  lanes4vl::EqualParticles equal;
+  for (std::size_t first = 0; first < count; first += 4) {
+    lanes4vl::evaluate_group<kEnergy>(law4, s, entries, first, count, equal, sums);
+  }
+}
+
 /// Groups of eight; a rest of at most four contacts goes as one group of four (fewer repeated
 /// lanes at the end of a chunk's list).
 template <bool kEnergy>
@@ -167,12 +144,17 @@ bool x4_contacts_available() { return dem_simd_level() >= SimdLevel::avx; }  // 
 
 bool x8_contacts_available() { return dem_simd_level() >= SimdLevel::avx512; }
 
+bool x4_contacts_in_avx512vl() { return dem_simd_level() == SimdLevel::avx && dem_four_lanes_avx512vl(); }
+
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, std::size_t count, double dt,
                       OwnSums* sums) {
   static const bool eight = x8_contacts_available();  // the level is fixed for the process
+  static const bool four_vl = x4_contacts_in_avx512vl();
   if (eight) {
     hertz_mindlin_avx512<kEnergy>(law, s, entries, count, dt, sums);
+  } else if (four_vl) {
+    hertz_mindlin_avx512vl<kEnergy>(law, s, entries, count, dt, sums);
   } else {
     hertz_mindlin_avx<kEnergy>(law, s, entries, count, dt, sums);
   }
@@ -182,6 +164,7 @@ void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries,
 
 bool x4_contacts_available() { return false; }
 bool x8_contacts_available() { return false; }
+bool x4_contacts_in_avx512vl() { return false; }
 
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin&, FastState&, PairEntry*, std::size_t, double, OwnSums*) {}

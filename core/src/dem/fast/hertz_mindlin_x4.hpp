@@ -22,6 +22,9 @@ namespace ppohdem::dem::fast {
 bool x4_contacts_available();
 /// True if hertz_mindlin_x4 takes eight contacts at a time (dem_simd_level() avx512).
 bool x8_contacts_available();
+/// True if its four lanes are encoded with AVX-512VL (dem_four_lanes_avx512vl: an Intel CPU
+/// with AVX-512 and PPOHDEM_SIMD unset or auto).
+bool x4_contacts_in_avx512vl();
 
 /// What the law can also do for the force kernel's first pass ("Each pair once",
 /// force_kernel.cpp), in place of a second loop over the evaluated entries: add each contact
