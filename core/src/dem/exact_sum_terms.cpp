@@ -145,26 +145,23 @@ template <std::size_t W, class T>
   }
 }
 
-void add_all_baseline(ExactSum& sum, std::span<const double> terms) { add_all<2>(sum, terms); }
-void add_all_baseline(ExactSum& sum, std::span<double> terms) { add_all<2>(sum, terms); }
+// One function a width and a constness of the terms (T: const double or double).
+template <class T>
+void add_all_baseline(ExactSum& sum, std::span<T> terms) {
+  add_all<2>(sum, terms);
+}
 
 #if defined(__x86_64__) && defined(__GNUC__)
-// Ends with vzeroupper on every path, the empty one too (docs/portability.md "Upper register
-// state").
-[[gnu::target("avx512f")]] void add_all_avx512(ExactSum& sum, std::span<const double> terms) {
+// Each ends with vzeroupper on every path, the empty one too (docs/portability.md "Upper
+// register state"). Four lanes: the DEM's lanes are four on Intel CPUs with AVX-512
+// (docs/portability.md "DEM lane width").
+template <class T>
+[[gnu::target("avx512f")]] void add_all_avx512(ExactSum& sum, std::span<T> terms) {
   add_all<8>(sum, terms);
   _mm256_zeroupper();
 }
-[[gnu::target("avx512f")]] void add_all_avx512(ExactSum& sum, std::span<double> terms) {
-  add_all<8>(sum, terms);
-  _mm256_zeroupper();
-}
-// The DEM's lanes are four on Intel CPUs with AVX-512 (docs/portability.md "DEM lane width").
-[[gnu::target("avx")]] void add_all_avx(ExactSum& sum, std::span<const double> terms) {
-  add_all<4>(sum, terms);
-  _mm256_zeroupper();
-}
-[[gnu::target("avx")]] void add_all_avx(ExactSum& sum, std::span<double> terms) {
+template <class T>
+[[gnu::target("avx")]] void add_all_avx(ExactSum& sum, std::span<T> terms) {
   add_all<4>(sum, terms);
   _mm256_zeroupper();
 }
