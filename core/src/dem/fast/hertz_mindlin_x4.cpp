@@ -2,8 +2,8 @@
 // time (see hertz_mindlin_x4.hpp). The law itself is hertz_mindlin_lanes.inc, included once per
 // width and encoding; every function that holds a lane value carries its target and is inlined
 // into hertz_mindlin_avx, hertz_mindlin_avx512vl or hertz_mindlin_avx512, called only after the
-// CPU check: the rest of the program stays SSE2-only. Built with -ffp-contract=off: AVX-512F has FMA, which would fuse a * b + c and
-// change the bits (core/src/dem/CMakeLists.txt).
+// CPU check: the rest of the program stays SSE2-only. Built with -ffp-contract=off: AVX-512F
+// has FMA, which would fuse a * b + c and change the bits (core/src/dem/CMakeLists.txt).
 #include "hertz_mindlin_x4.hpp"
 
 #include <cstddef>
