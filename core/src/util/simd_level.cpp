@@ -74,7 +74,8 @@ SimdLevel dem_simd_level(SimdLevel level, bool forced, bool intel) {
 }
 
 bool dem_four_lanes_avx512vl(SimdLevel level, bool forced, bool intel, bool vl) {
-  return !forced && intel && level == SimdLevel::avx512 && vl;
+  // Exactly where dem_simd_level's rule narrowed the lanes (its one definition of that case).
+  return vl && level == SimdLevel::avx512 && dem_simd_level(level, forced, intel) == SimdLevel::avx;
 }
 
 bool dem_four_lanes_avx512vl() {

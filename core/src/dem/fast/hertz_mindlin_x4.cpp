@@ -144,7 +144,7 @@ bool x4_contacts_available() { return dem_simd_level() >= SimdLevel::avx; }  // 
 
 bool x8_contacts_available() { return dem_simd_level() >= SimdLevel::avx512; }
 
-bool x4_contacts_in_avx512vl() { return dem_simd_level() == SimdLevel::avx && dem_four_lanes_avx512vl(); }
+bool x4_contacts_in_avx512vl() { return dem_four_lanes_avx512vl(); }
 
 template <bool kEnergy>
 void hertz_mindlin_x4(const HertzMindlin& law, FastState& s, PairEntry* entries, std::size_t count, double dt,
