@@ -52,7 +52,8 @@ inline PairKinematics pair_kinematics(const FastState& s, std::size_t i, std::si
 }
 
 /// The contacts entries[0, count), one at a time (frictional kernels): springs, pair results,
-/// and the entries' energies and overlaps for the booking.
+/// the upper contacts' force and torque added to s.f, s.t (zeroed for the chunk), and the
+/// entries' energies and overlaps for the booking.
 template <class K>
 inline void evaluate_contacts_one_by_one(const K& kernel, FastState& s, PairEntry* entries, std::size_t count, double dt) {
   for (std::size_t c = 0; c < count; ++c) {
@@ -79,14 +80,18 @@ inline void evaluate_contacts_one_by_one(const K& kernel, FastState& s, PairEntr
       sp.branch_j = r_j;
     }
     s.put_spring(entry.code, sp);
+    // The reference's sums (force_passes.hpp).
+    const Vec3 torque_i = s.rolling ? Vec3(r_i.cross(f.on_i) + f.rolling_torque) : Vec3(r_i.cross(f.on_i));
     PairResult& result = s.result_at(entry.code);
     result.force = f.on_i;
-    if (s.rolling) {  // the reference's sums (force_passes.hpp)
-      result.torque_i = r_i.cross(f.on_i) + f.rolling_torque;
-      result.torque_j = r_j.cross(f.on_i) + f.rolling_torque;
-    } else {
-      result.torque_i = r_i.cross(f.on_i);
-      result.torque_j = r_j.cross(f.on_i);
+    if (entry.kind == PairEntry::kContactUpper) {
+      // i's own sums, in its entries' order as the lane law adds them (OwnSums): the booking
+      // starts from them.
+      s.f[i] += f.on_i;
+      s.t[i] += torque_i;
+      result.torque_summed = s.rolling ? Vec3(r_j.cross(f.on_i) + f.rolling_torque) : Vec3(r_j.cross(f.on_i));
+    } else {  // a lower-id ghost's: the sum pass adds it to i
+      result.torque_summed = torque_i;
     }
     entry.elastic = f.elastic_energy;
     entry.dissipated = f.dissipated;
@@ -175,10 +180,10 @@ inline std::uint32_t list_chunk_pairs(RangePass& pass, std::size_t chunk, std::s
   return count;
 }
 
-/// Each particle of [chunk, chunk_end) books its listed entries in slot order: the contacts
-/// with higher-id partners (this side's results, in ascending partner id) into its force and
-/// torque (the sum's first part; the sum pass adds the rest), its energy terms, count and
-/// deepest contact, then the energy of its contacts that ended (`ended`); then its boundaries.
+/// Each particle of [chunk, chunk_end) books its listed entries in slot order: of the contacts
+/// with higher-id partners (whose force and torque the evaluation added to s.f, s.t: the sum's
+/// first part; the sum pass adds the rest) its energy terms, count and deepest contact, then
+/// the energy of its contacts that ended (`ended`); then its boundaries.
 template <class K>
 inline void book_chunk(const K& kernel, RangePass& pass, std::size_t chunk, std::size_t chunk_end,
                        const PairEntry* entries, const std::uint32_t* entries_of, [[maybe_unused]] const double* ended) {
@@ -198,9 +203,6 @@ inline void book_chunk(const K& kernel, RangePass& pass, std::size_t chunk, std:
     for (std::uint32_t e = entries_of[i - chunk]; e < entries_of[i + 1 - chunk]; ++e) {
       const PairEntry& entry = entries[e];
       if (entry.kind != PairEntry::kContactUpper) continue;  // each pair's energy once, on its lower-id side
-      const PairResult& result = s.result_at(entry.code);
-      sums.force += result.force;
-      sums.torque += result.torque_i;
       if constexpr (K::kEnergy) {
         sums.elastic += entry.elastic;
         sums.dissipated += entry.dissipated;

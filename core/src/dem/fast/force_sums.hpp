@@ -99,12 +99,12 @@ inline void sum_pass(FastState& s, std::size_t ranges, std::size_t n, bool has_g
             if (ghost_partners && s.partner[slot] >= n) {  // a lower-id ghost: evaluated here
               const PairResult& r = result_or_zero(s, s.spring_of[slot]);
               force += r.force;
-              torque += r.torque_i;
+              torque += r.torque_summed;
               continue;
             }
             const PairResult& r = result_or_zero(s, s.lower_code[slot]);  // the lower-id side's
             force += -r.force;
-            torque += -r.torque_j;
+            torque += -r.torque_summed;
           }
           if constexpr (K::kRecords) {
             for (const std::uint32_t end = s.next_record_first[i + 1]; record < end; ++record) {

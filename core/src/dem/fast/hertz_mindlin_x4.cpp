@@ -27,8 +27,7 @@ namespace {
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles");
 static_assert(offsetof(SpringCore, stiffness) == offsetof(SpringCore, displacement) + 3 * sizeof(double));
 static_assert(offsetof(SpringArms, branch_j) == offsetof(SpringArms, branch_i) + 3 * sizeof(double));
-static_assert(offsetof(PairResult, torque_i) == offsetof(PairResult, force) + 3 * sizeof(double));
-static_assert(offsetof(PairResult, torque_j) == offsetof(PairResult, torque_i) + 3 * sizeof(double));
+static_assert(offsetof(PairResult, torque_summed) == offsetof(PairResult, force) + 3 * sizeof(double));
 
 /// Four lanes (AVX): a group of four contacts.
 namespace lanes4 {

@@ -45,7 +45,7 @@ struct OwnSums {
 /// Hertz-Mindlin law (one material), four at a time: the relative kinematics from the
 /// particles' state in `s`, the normal force, the tangential spring update (each contact's
 /// spring's s.spring_core(code): displacement and stiffness), the pair result
-/// (s.result_at(code): force on i and both torques); with kEnergy also the spring's branch
+/// (s.result_at(code): force on i and the torque the sum pass adds); with kEnergy also the spring's branch
 /// vectors (s.spring_arms(code)) and the entry's elastic and dissipated energy (contact_force.hpp). `dt` is the
 /// history increment interval [s]. With `sums`, also what OwnSums says; without, the entry's
 /// overlap (for the booking). Requires x4_contacts_available(). Eight at a time where
