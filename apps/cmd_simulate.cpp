@@ -19,6 +19,8 @@
 //       steps (default 500; order 1 2 2 1 1 2 ...) and report each count's particle-steps per second: a
 //       speed-up measured in one process, over the same phases of the run (the results do not
 //       depend on the thread count; docs/performance.md)
+// A run of at least kHugePagesFromSteps steps asks for huge pages for its heap
+// (ppohdem/heap_pages.hpp); the environment variable PPOHDEM_HUGE_PAGES=on|off|auto overrides.
 // Under `mpirun -n P` (P > 1) the fast engine decomposes the domain over the P ranks
 // (docs/dem.md "Domain decomposition"): the same files, byte for byte, as one rank (header
 // line aside), written by rank 0; checkpoints are written per rank (a manifest and one part per
@@ -50,6 +52,7 @@
 #include "ppohdem/dem/run.hpp"
 #include "ppohdem/dem/scene.hpp"
 #include "ppohdem/error.hpp"
+#include "ppohdem/heap_pages.hpp"
 #include "ppohdem/mesh/mesh_stats.hpp"
 #include "ppohdem/provenance.hpp"
 #include "ppohdem/dem/reference/reference_engine.hpp"
@@ -60,6 +63,11 @@ namespace ppohdem::app {
 void run_simulate_compat(const std::string& mode, const std::string& params_file,
                          const std::optional<std::string>& initial, std::optional<long> steps, bool quiet);
 namespace {
+
+/// Steps from which a run asks for huge pages by default: a 2 MiB page's first touch costs
+/// about 3 ms on these VMs, repaid in a few hundred steps (docs/performance.md "Huge pages
+/// for long runs").
+constexpr long kHugePagesFromSteps = 1000;
 
 struct SimulateOptions {
   std::string input;
@@ -268,9 +276,23 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     const long first_step = run_options.restart ? run_options.restart->engine.step : 0;
     phases.emplace(options.phases, first_step, scene.steps);
   }
-  if (alternation || phases) {
-    run_options.at_step_boundary = [&alternation, &phases](long done) {
+  // Huge pages for the heap of a run long enough to repay their first touches, asked before
+  // the first step and again whenever the heap has grown (docs/performance.md "Huge pages for
+  // long runs").
+  const long steps_to_run = scene.steps - (run_options.restart ? run_options.restart->engine.step : 0);
+  const HugePages huge_pages = huge_pages_setting();
+  const bool heap_in_huge_pages =
+      huge_pages == HugePages::kOn || (huge_pages == HugePages::kAuto && steps_to_run >= kHugePagesFromSteps);
+  double huge_pages_seconds = 0.0;  // the first request, for the heap as set up (not in the steps' time)
+  if (heap_in_huge_pages) {
+    const auto started = std::chrono::steady_clock::now();
+    back_heap_with_huge_pages();
+    huge_pages_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  }
+  if (alternation || phases || heap_in_huge_pages) {
+    run_options.at_step_boundary = [&alternation, &phases, heap_in_huge_pages](long done) {
       if (phases) phases->at_step_boundary(done);  // first: its clock excludes the thread switch
+      if (heap_in_huge_pages) back_heap_with_huge_pages();
       if (alternation) alternation->at_step_boundary(done);
     };
   }
@@ -352,6 +374,11 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
   }
   if (s.checkpoints > 0) {
     std::printf("timing: %zu checkpoints in %.3f s (part of the steps' time)\n", s.checkpoints, s.checkpoint_seconds);
+  }
+  if (heap_in_huge_pages) {
+    const std::string why = huge_pages == HugePages::kOn ? "on" : "auto: a run of >= " + std::to_string(kHugePagesFromSteps) + " steps";
+    std::printf("memory: %.0f MiB of the heap asked for in huge pages (PPOHDEM_HUGE_PAGES %s), %.3f s before the steps\n",
+                static_cast<double>(heap_bytes_asked_for_huge_pages()) / (1 << 20), why.c_str(), huge_pages_seconds);
   }
   if (load) {
     std::printf("load balance: %s, %ld re-cuts; particles per rank max/mean %.3f (equal bricks of the initial "
