@@ -19,8 +19,9 @@
 //       steps (default 500; order 1 2 2 1 1 2 ...) and report each count's particle-steps per second: a
 //       speed-up measured in one process, over the same phases of the run (the results do not
 //       depend on the thread count; docs/performance.md)
-// A run of at least kHugePagesFromSteps steps asks for huge pages for its heap
-// (ppohdem/heap_pages.hpp); the environment variable PPOHDEM_HUGE_PAGES=on|off|auto overrides.
+// A run of at least kHugePagesFromSteps steps with at least kHugePagesFromParticles particles a
+// thread asks for huge pages for its heap (ppohdem/heap_pages.hpp); the environment variable
+// PPOHDEM_HUGE_PAGES=on|off|auto overrides.
 // Under `mpirun -n P` (P > 1) the fast engine decomposes the domain over the P ranks
 // (docs/dem.md "Domain decomposition"): the same files, byte for byte, as one rank (header
 // line aside), written by rank 0; checkpoints are written per rank (a manifest and one part per
@@ -64,10 +65,22 @@ void run_simulate_compat(const std::string& mode, const std::string& params_file
                          const std::optional<std::string>& initial, std::optional<long> steps, bool quiet);
 namespace {
 
-/// Steps from which a run asks for huge pages by default: a 2 MiB page's first touch costs
-/// about 3 ms on these VMs, repaid in a few hundred steps (docs/performance.md "Huge pages
-/// for long runs").
+/// A run asks for huge pages by default from these many steps and particles a thread (per
+/// rank): a 2 MiB page's first touch costs about 3 ms on these VMs, repaid in a few hundred
+/// steps, and the TLB misses they save are those of a state larger than the TLB reaches in
+/// small pages (5,000 particles a thread gained nothing; docs/performance.md "Huge pages for
+/// long runs").
 constexpr long kHugePagesFromSteps = 1000;
+constexpr std::size_t kHugePagesFromParticles = 10000;
+
+/// The OpenMP threads a run starts with (1 without OpenMP).
+int run_threads() {
+#ifdef PPOHDEM_WITH_OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
 
 struct SimulateOptions {
   std::string input;
@@ -276,13 +289,15 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     const long first_step = run_options.restart ? run_options.restart->engine.step : 0;
     phases.emplace(options.phases, first_step, scene.steps);
   }
-  // Huge pages for the heap of a run long enough to repay their first touches, asked before
-  // the first step and again whenever the heap has grown (docs/performance.md "Huge pages for
-  // long runs").
+  // Huge pages for the heap of a run long enough to repay their first touches, with a state
+  // per thread beyond the TLB's reach in small pages; asked before the first step and again
+  // whenever the heap has grown (docs/performance.md "Huge pages for long runs").
   const long steps_to_run = scene.steps - (run_options.restart ? run_options.restart->engine.step : 0);
+  const std::size_t particles_a_thread = particle_count / static_cast<std::size_t>(ranks * run_threads());
   const HugePages huge_pages = huge_pages_setting();
   const bool heap_in_huge_pages =
-      huge_pages == HugePages::kOn || (huge_pages == HugePages::kAuto && steps_to_run >= kHugePagesFromSteps);
+      huge_pages == HugePages::kOn || (huge_pages == HugePages::kAuto && steps_to_run >= kHugePagesFromSteps &&
+                                       particles_a_thread >= kHugePagesFromParticles);
   double huge_pages_seconds = 0.0;  // the first request, for the heap as set up (not in the steps' time)
   if (heap_in_huge_pages) {
     const auto started = std::chrono::steady_clock::now();
@@ -376,7 +391,8 @@ void run_scene_file(const SimulateOptions& options, dem::Scene scene, ReadTiming
     std::printf("timing: %zu checkpoints in %.3f s (part of the steps' time)\n", s.checkpoints, s.checkpoint_seconds);
   }
   if (heap_in_huge_pages) {
-    const std::string why = huge_pages == HugePages::kOn ? "on" : "auto: a run of >= " + std::to_string(kHugePagesFromSteps) + " steps";
+    const std::string why = huge_pages == HugePages::kOn ? "on" : "auto: a run of >= " + std::to_string(kHugePagesFromSteps) + " steps and >= " +
+                                 std::to_string(kHugePagesFromParticles) + " particles a thread";
     std::printf("memory: %.0f MiB of the heap asked for in huge pages (PPOHDEM_HUGE_PAGES %s), %.3f s before the steps\n",
                 static_cast<double>(heap_bytes_asked_for_huge_pages()) / (1 << 20), why.c_str(), huge_pages_seconds);
   }

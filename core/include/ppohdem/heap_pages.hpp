@@ -12,7 +12,7 @@
 namespace ppohdem {
 
 /// The environment variable PPOHDEM_HUGE_PAGES: "auto" or unset (the caller's rule: `simulate`
-/// asks for runs of at least 1,000 steps), "on" or "off".
+/// asks for runs of at least 1,000 steps with at least 10,000 particles a thread), "on" or "off".
 enum class HugePages { kAuto, kOn, kOff };
 
 /// A value of PPOHDEM_HUGE_PAGES ("" is auto). Throws InputError naming the variable and the
